@@ -1,0 +1,147 @@
+#include "tracker/keyframe_builder.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "tracker/descriptor_match.h"
+
+namespace hs {
+
+float intensity_centroid_angle(const cv::Mat& image, const cv::Point2f& uv, int radius) {
+  const int cx = static_cast<int>(std::lround(uv.x)), cy = static_cast<int>(std::lround(uv.y));
+  double m01 = 0, m10 = 0;
+  for (int dy = -radius; dy <= radius; ++dy) {
+    const int y = cy + dy;
+    if (y < 0 || y >= image.rows) continue;
+    const int span = static_cast<int>(std::sqrt(static_cast<double>(radius * radius - dy * dy)));
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int dx = -span; dx <= span; ++dx) {
+      const int x = cx + dx;
+      if (x < 0 || x >= image.cols) continue;
+      m10 += dx * row[x];
+      m01 += dy * row[x];
+    }
+  }
+  const double deg = std::atan2(m01, m10) * 180.0 / M_PI;
+  return static_cast<float>(deg < 0 ? deg + 360.0 : deg);
+}
+
+KeyframeBuilder::KeyframeBuilder(const TrackerOptions& options)
+    : options_(options), orb_(options.orb), stereo_(options.calib, options.stereo_match) {}
+
+std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
+                                                 const ImagePyramid& pyramid, const NavState& nav,
+                                                 const std::vector<TrackedObservation>& tracked,
+                                                 const OrbFeatures* features, LocalMap& map,
+                                                 KeyframeBuildStats* stats) const {
+  KeyframeBuildStats local_stats;
+  KeyframeBuildStats& st = stats ? *stats : local_stats;
+  st = {};
+  auto kf = std::make_shared<Keyframe>();
+  kf->id = map.new_keyframe_id();
+  kf->state = nav;
+  Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();
+  T_w_b.linear() = nav.q_w_b.toRotationMatrix();
+  T_w_b.translation() = nav.p_w_b;
+  kf->T_w_c0 = T_w_b * options_.calib.cam0.T_b_c;
+  kf->pyramid = pyramid;
+  kf->thumbnail = pyramid.levels.back();
+
+  OrbFeatures detected = features ? *features : orb_.extract(frame.cam0);
+
+  // Tracked points take the detected keypoint they coincide with; the others become
+  // keypoints of their own (octave 0, orientation from the intensity centroid), so that every
+  // tracked point of a keyframe has a descriptor.
+  constexpr double kAttachRadiusPx = 2.0;
+  std::vector<Eigen::Vector2f> det_uv;
+  det_uv.reserve(detected.size());
+  for (const cv::KeyPoint& kp : detected.keypoints) det_uv.emplace_back(kp.pt.x, kp.pt.y);
+  const KeypointGrid grid(det_uv, frame.cam0.cols, frame.cam0.rows);
+  std::vector<int64_t> det_point(detected.size(), -1);
+  std::vector<cv::KeyPoint> extra;
+  std::vector<int64_t> extra_point;
+  std::vector<int> near;
+  for (const TrackedObservation& t : tracked) {
+    grid.query(t.uv, kAttachRadiusPx, near);
+    int best = -1;
+    double best_d2 = 1e9;
+    for (int i : near) {
+      const double d2 = (det_uv[i].cast<double>() - t.uv).squaredNorm();
+      if (det_point[i] < 0 && d2 < best_d2) best = i, best_d2 = d2;
+    }
+    if (best >= 0) {
+      det_point[best] = t.point_id;
+      continue;
+    }
+    const cv::Point2f pt(static_cast<float>(t.uv.x()), static_cast<float>(t.uv.y()));
+    extra.emplace_back(pt, 31.f, intensity_centroid_angle(frame.cam0, pt), 0.f, 0);
+    extra_point.push_back(t.point_id);
+  }
+  cv::Mat extra_desc;
+  if (!extra.empty()) {
+    const size_t before = extra.size();
+    // ORB drops keypoints too close to the border; keep the point ids in step by position.
+    std::vector<cv::KeyPoint> kept = extra;
+    cv::ORB::create()->compute(frame.cam0, kept, extra_desc);
+    if (kept.size() != before) {
+      std::vector<int64_t> ids;
+      size_t j = 0;
+      for (size_t i = 0; i < before && j < kept.size(); ++i)
+        if (extra[i].pt == kept[j].pt) ids.push_back(extra_point[i]), ++j;
+      extra_point = std::move(ids);
+    }
+    extra = std::move(kept);
+  }
+
+  kf->features.keypoints = detected.keypoints;
+  kf->features.keypoints.insert(kf->features.keypoints.end(), extra.begin(), extra.end());
+  if (extra_desc.empty())
+    kf->features.descriptors = detected.descriptors.clone();
+  else if (detected.descriptors.empty())
+    kf->features.descriptors = extra_desc;
+  else
+    cv::vconcat(detected.descriptors, extra_desc, kf->features.descriptors);
+  kf->point_ids = det_point;
+  kf->point_ids.insert(kf->point_ids.end(), extra_point.begin(), extra_point.end());
+  const size_t n = kf->features.size();
+  kf->u_right.assign(n, -1.f);
+  kf->depth.assign(n, -1.f);
+
+  for (size_t i = 0; i < n; ++i) {
+    if (kf->point_ids[i] < 0) continue;
+    ++st.attached;
+    // Re-anchor tracked points on the newest keyframe: its patch is the closest in viewpoint
+    // to the frames that follow.
+    if (MapPoint* p = map.point(kf->point_ids[i])) {
+      p->ref_keyframe_id = kf->id;
+      p->ref_uv = Eigen::Vector2d(kf->features.keypoints[i].pt.x, kf->features.keypoints[i].pt.y);
+    }
+  }
+
+  if (frame.stereo()) {
+    std::vector<Eigen::Vector2d> uv0;
+    uv0.reserve(n);
+    for (const cv::KeyPoint& kp : kf->features.keypoints) uv0.emplace_back(kp.pt.x, kp.pt.y);
+    const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
+    for (size_t i = 0; i < n; ++i) {
+      if (!matches[i].valid) continue;
+      ++st.stereo_matched;
+      kf->u_right[i] = static_cast<float>(matches[i].uv1.x());
+      kf->depth[i] = static_cast<float>(matches[i].p_c0.z());
+      if (kf->point_ids[i] >= 0) continue;
+      MapPoint p;
+      p.id = map.new_point_id();
+      p.p_w = kf->T_w_c0 * matches[i].p_c0;
+      std::memcpy(p.descriptor.data(), kf->features.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32);
+      p.ref_keyframe_id = kf->id;
+      p.ref_uv = uv0[i];
+      p.octave = kf->features.keypoints[i].octave;
+      map.add_point(p);
+      kf->point_ids[i] = p.id;
+      ++st.new_points;
+    }
+  }
+  return kf;
+}
+
+}  // namespace hs

@@ -1,0 +1,51 @@
+#pragma once
+// Turns a tracked frame into a keyframe (Algorithm 1, UMWK): ORB features are extracted here,
+// and only here in hybrid mode; points tracked by direct alignment are attached to keypoints
+// (getting descriptors for the mapper and relocalisation), and new points are triangulated
+// from the stereo pair.
+#include <memory>
+#include <vector>
+
+#include "common/dataset/stereo_frame.h"
+#include "tracker/local_map.h"
+#include "tracker/orb_extractor.h"
+#include "tracker/stereo_matcher.h"
+#include "tracker/tracker_options.h"
+
+namespace hs {
+
+struct TrackedObservation {
+  int64_t point_id = -1;
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // cam0 pixel in the current frame
+};
+
+struct KeyframeBuildStats {
+  int attached = 0;    // tracked points given a keypoint
+  int new_points = 0;  // triangulated from the stereo pair
+  int stereo_matched = 0;
+};
+
+class KeyframeBuilder {
+ public:
+  explicit KeyframeBuilder(const TrackerOptions& options);
+
+  // `features`: ORB features already extracted from this frame (every-frame mode), or null.
+  // New map points are added to `map`; the keyframe is returned, not yet added to it.
+  std::shared_ptr<Keyframe> build(const StereoFrame& frame, const ImagePyramid& pyramid,
+                                  const NavState& nav,
+                                  const std::vector<TrackedObservation>& tracked,
+                                  const OrbFeatures* features, LocalMap& map,
+                                  KeyframeBuildStats* stats) const;
+
+  const OrbExtractor& orb() const { return orb_; }
+
+ private:
+  const TrackerOptions& options_;
+  OrbExtractor orb_;
+  StereoMatcher stereo_;
+};
+
+// ORB's intensity-centroid orientation (degrees) of the patch around `uv`.
+float intensity_centroid_angle(const cv::Mat& image, const cv::Point2f& uv, int radius = 15);
+
+}  // namespace hs

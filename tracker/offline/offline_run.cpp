@@ -1,0 +1,135 @@
+#include "tracker/offline/offline_run.h"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "common/core/atomic_file.h"
+
+namespace hs {
+
+EventSource euroc_source(EurocStream& stream) {
+  return [&stream](DatasetEvent& e) { return stream.next(e); };
+}
+
+EventSource sim_source(sim::DatasetGenerator& gen, bool stereo) {
+  // Merge IMU samples, ground truth and frames by time; IMU first at equal times, so the
+  // sample at a frame's time is there when the frame arrives.
+  struct State {
+    size_t imu = 0, truth = 0, frame = 0;
+  };
+  auto st = std::make_shared<State>();
+  return [&gen, st, stereo](DatasetEvent& e) {
+    const auto& samples = gen.imu().samples;
+    const auto& truth = gen.imu().truth;
+    const auto& frames = gen.frame_times_ns();
+    const int64_t inf = INT64_MAX;
+    const int64_t t_imu = st->imu < samples.size() ? samples[st->imu].t_ns : inf;
+    const int64_t t_gt = st->truth < truth.size() ? truth[st->truth].t_ns : inf;
+    const int64_t t_frame = st->frame < frames.size() ? frames[st->frame] : inf;
+    if (t_imu == inf && t_gt == inf && t_frame == inf) return false;
+    if (t_imu <= t_gt && t_imu <= t_frame) {
+      e = samples[st->imu++];
+    } else if (t_gt <= t_frame) {
+      e = truth[st->truth++];
+    } else {
+      const size_t i = st->frame++;
+      sim::SimStereoFrame f = gen.frame(i);
+      StereoFrame sf;
+      sf.t_ns = f.t_ns;
+      sf.seq = static_cast<int64_t>(i);
+      sf.cam0 = f.cam0;
+      if (stereo) sf.cam1 = f.cam1;
+      e = std::move(sf);
+    }
+    return true;
+  };
+}
+
+Trajectory OfflineRunResult::estimate() const {
+  Trajectory t;
+  for (const FrameRecord& f : frames) {
+    if (!f.accepted || f.state == TrackState::kInitialising) continue;
+    StampedPose p;
+    p.t_ns = f.t_ns;
+    p.T_w_b.linear() = f.nav.q_w_b.toRotationMatrix();
+    p.T_w_b.translation() = f.nav.p_w_b;
+    t.poses.push_back(p);
+  }
+  return t;
+}
+
+Trajectory OfflineRunResult::ground_truth_trajectory() const {
+  Trajectory t;
+  for (const NavState& s : ground_truth) {
+    StampedPose p;
+    p.t_ns = s.t_ns;
+    p.T_w_b.linear() = s.q_w_b.toRotationMatrix();
+    p.T_w_b.translation() = s.p_w_b;
+    t.poses.push_back(p);
+  }
+  return t;
+}
+
+OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,
+                             const OfflineRunOptions& run_options) {
+  Tracker tracker(options);
+  OfflineRunResult out;
+  DatasetEvent e;
+  while (source(e)) {
+    if (const auto* imu = std::get_if<ImuSample>(&e)) {
+      const ImuReject why = tracker.add_imu(*imu);
+      if (why != ImuReject::kAccepted && run_options.verbose)
+        std::fprintf(stderr, "IMU %lld: %s\n", static_cast<long long>(imu->t_ns), to_string(why));
+    } else if (const auto* gt = std::get_if<NavState>(&e)) {
+      out.ground_truth.push_back(*gt);
+    } else {
+      const FrameResult r = tracker.track(std::get<StereoFrame>(e));
+      FrameRecord rec;
+      rec.t_ns = r.t_ns;
+      rec.accepted = r.accepted;
+      rec.state = r.state;
+      rec.method = r.method;
+      rec.is_keyframe = r.is_keyframe;
+      rec.tracked_points = r.tracked_points;
+      rec.total_ms = r.total_ms;
+      rec.stage_ms = r.stage_ms;
+      rec.nav = r.nav;
+      rec.message = r.message;
+      out.frames.push_back(std::move(rec));
+      if (run_options.verbose && !r.message.empty())
+        std::fprintf(stderr, "frame %lld [%s]: %s\n", static_cast<long long>(r.seq),
+                     to_string(r.state), r.message.c_str());
+      if (run_options.progress && out.frames.size() % 100 == 0)
+        std::fprintf(stderr, "  %zu frames, %lld keyframes, state %s\n", out.frames.size(),
+                     static_cast<long long>(tracker.counters().keyframes), to_string(r.state));
+    }
+  }
+  out.counters = tracker.counters();
+  out.imu_counters = tracker.imu_counters();
+  return out;
+}
+
+void write_timing_csv(const std::string& path, const OfflineRunResult& result) {
+  // Stage columns in order of first appearance.
+  std::vector<std::string> stages;
+  std::map<std::string, size_t> index;
+  for (const FrameRecord& f : result.frames)
+    for (const auto& [name, ms] : f.stage_ms)
+      if (index.emplace(name, stages.size()).second) stages.push_back(name);
+  std::ostringstream out;
+  out << "t_ns,state,method,keyframe,tracked,total_ms";
+  for (const std::string& s : stages) out << "," << s << "_ms";
+  out << "\n";
+  for (const FrameRecord& f : result.frames) {
+    out << f.t_ns << "," << to_string(f.state) << "," << to_string(f.method) << ","
+        << (f.is_keyframe ? 1 : 0) << "," << f.tracked_points << "," << f.total_ms;
+    std::vector<float> row(stages.size(), 0.0f);
+    for (const auto& [name, ms] : f.stage_ms) row[index[name]] = ms;
+    for (float ms : row) out << "," << ms;
+    out << "\n";
+  }
+  write_file_atomically(path, out.str());
+}
+
+}  // namespace hs

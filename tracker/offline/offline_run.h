@@ -1,0 +1,59 @@
+#pragma once
+// Runs the tracker over a dataset in one process, deterministically and as fast as possible:
+// the same library the hs-tracker process uses, fed from an EuRoC folder or straight from the
+// simulator (no disk). Collects per-frame results for trajectories, timing and evaluation.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/dataset/euroc_stream.h"
+#include "common/eval/evaluate.h"
+#include "common/sim/dataset_gen.h"
+#include "tracker/tracker.h"
+
+namespace hs {
+
+// Yields events in sensor-time order; false at the end.
+using EventSource = std::function<bool(DatasetEvent&)>;
+
+EventSource euroc_source(EurocStream& stream);
+// Frames of the simulator as cam0/cam1 (or cam0 only when `stereo` is false); ground truth at
+// the IMU rate.
+EventSource sim_source(sim::DatasetGenerator& generator, bool stereo = true);
+
+struct FrameRecord {
+  int64_t t_ns = 0;
+  bool accepted = false;
+  TrackState state = TrackState::kInitialising;
+  TrackMethod method = TrackMethod::kNone;
+  bool is_keyframe = false;
+  int tracked_points = 0;
+  float total_ms = 0.0f;
+  std::vector<std::pair<std::string, float>> stage_ms;
+  NavState nav;
+  std::string message;
+};
+
+struct OfflineRunResult {
+  std::vector<FrameRecord> frames;
+  std::vector<NavState> ground_truth;
+  TrackerCounters counters;
+  ImuBufferCounters imu_counters;
+
+  // Body poses of the frames that have a state (not initialising, not rejected).
+  Trajectory estimate() const;
+  Trajectory ground_truth_trajectory() const;
+};
+
+struct OfflineRunOptions {
+  bool progress = false;  // a progress line on stderr every 100 frames
+  bool verbose = false;   // every tracker message on stderr
+};
+
+OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,
+                             const OfflineRunOptions& run_options = {});
+
+// Per-frame timing CSV: t_ns, state, method, keyframe, tracked, total_ms, then each stage.
+void write_timing_csv(const std::string& path, const OfflineRunResult& result);
+
+}  // namespace hs

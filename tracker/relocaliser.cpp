@@ -1,0 +1,126 @@
+#include "tracker/relocaliser.h"
+
+#include <algorithm>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "tracker/descriptor_match.h"
+
+namespace hs {
+
+double photometric_distance(const cv::Mat& a, const cv::Mat& b) {
+  cv::Scalar ma, sa, mb, sb;
+  cv::meanStdDev(a, ma, sa);
+  cv::meanStdDev(b, mb, sb);
+  if (sa[0] < 1e-6 || sb[0] < 1e-6) return 2.0;
+  cv::Mat na, nb;
+  a.convertTo(na, CV_32F, 1.0 / sa[0], -ma[0] / sa[0]);
+  b.convertTo(nb, CV_32F, 1.0 / sb[0], -mb[0] / sb[0]);
+  return cv::norm(na, nb, cv::NORM_L2SQR) / static_cast<double>(a.total());
+}
+
+RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures& current,
+                                          const NavState& guess, const LocalMap& map) const {
+  RelocResult r;
+  r.keyframe_id = kf.id;
+  // Keyframe keypoints that observe a live map point.
+  std::vector<int> rows;
+  std::vector<Eigen::Vector3d> p_w;
+  const auto positions = map.point_positions(kf);
+  for (size_t i = 0; i < positions.size(); ++i) {
+    if (!positions[i]) continue;
+    rows.push_back(static_cast<int>(i));
+    p_w.push_back(*positions[i]);
+  }
+  if (rows.size() < static_cast<size_t>(options_.reloc_min_inliers) || current.size() == 0) {
+    r.message = "keyframe " + std::to_string(kf.id) + " has too few map points";
+    return r;
+  }
+  cv::Mat kf_desc(static_cast<int>(rows.size()), 32, CV_8U);
+  for (size_t k = 0; k < rows.size(); ++k) kf.features.descriptors.row(rows[k]).copyTo(kf_desc.row(static_cast<int>(k)));
+  const auto pairs = match_mutual(current.descriptors, kf_desc, options_.matching);
+  if (pairs.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
+    r.message = std::to_string(pairs.size()) + " descriptor matches with keyframe " +
+                std::to_string(kf.id);
+    return r;
+  }
+
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  std::vector<cv::Point3f> obj;
+  std::vector<cv::Point2f> img;
+  for (const auto& [q, t] : pairs) {
+    const cv::Point2f& pt = current.keypoints[q].pt;
+    const Eigen::Vector2d xy = cam.unproject_normalised(Eigen::Vector2d(pt.x, pt.y));
+    obj.emplace_back(static_cast<float>(p_w[t].x()), static_cast<float>(p_w[t].y()),
+                     static_cast<float>(p_w[t].z()));
+    img.emplace_back(static_cast<float>(xy.x()), static_cast<float>(xy.y()));
+  }
+  cv::Mat rvec, tvec;
+  std::vector<int> ransac_inliers;
+  const double thresh = 3.0 / cam.fx;  // 3 px in normalised coordinates
+  const bool solved = cv::solvePnPRansac(obj, img, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec,
+                                         tvec, false, 200, static_cast<float>(thresh), 0.99,
+                                         ransac_inliers, cv::SOLVEPNP_EPNP);
+  if (!solved || ransac_inliers.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
+    r.message = "PnP found " + std::to_string(ransac_inliers.size()) + " inliers";
+    return r;
+  }
+  cv::Mat R_cv;
+  cv::Rodrigues(rvec, R_cv);
+  Eigen::Matrix3d R_c_w;
+  Eigen::Vector3d t_c_w;
+  cv::cv2eigen(R_cv, R_c_w);
+  cv::cv2eigen(tvec, t_c_w);
+  Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
+  T_c_w.linear() = R_c_w;
+  T_c_w.translation() = t_c_w;
+  const Eigen::Isometry3d T_w_b = T_c_w.inverse() * options_.calib.cam0.T_b_c.inverse();
+
+  NavState start = guess;
+  start.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
+  start.p_w_b = T_w_b.translation();
+  std::vector<PoseObservation> obs;
+  std::vector<int64_t> ids;
+  for (const auto& [q, t] : pairs) {
+    PoseObservation o;
+    o.p_w = p_w[t];
+    o.uv = Eigen::Vector2d(current.keypoints[q].pt.x, current.keypoints[q].pt.y);
+    o.sigma_px = level_sigma_px(current.keypoints[q].octave, options_.orb.scale_factor);
+    obs.push_back(o);
+    ids.push_back(kf.point_ids[rows[t]]);
+  }
+  const PoseOptResult opt = optimizer_.optimise_pose(start, obs);
+  if (!opt.valid() || opt.num_inliers < options_.reloc_min_inliers) {
+    r.message = std::string("pose refinement: ") + (opt.reason.empty() ? "too few inliers" : opt.reason);
+    return r;
+  }
+  r.ok = true;
+  r.nav = opt.state;
+  r.inliers = opt.num_inliers;
+  for (size_t k = 0; k < obs.size(); ++k)
+    if (opt.inliers[k]) r.tracked.push_back({ids[k], obs[k].uv});
+  r.message = "relocalised against keyframe " + std::to_string(kf.id) + " with " +
+              std::to_string(r.inliers) + " inliers";
+  return r;
+}
+
+RelocResult Relocaliser::global(const cv::Mat& thumbnail, const OrbFeatures& current,
+                                const NavState& guess, const LocalMap& map, int candidates) const {
+  std::vector<std::pair<double, const Keyframe*>> ranked;
+  for (const auto* list : {&map.window(), &map.database()})
+    for (const auto& kf : *list)
+      if (kf->thumbnail.size() == thumbnail.size())
+        ranked.emplace_back(photometric_distance(thumbnail, kf->thumbnail), kf.get());
+  std::sort(ranked.begin(), ranked.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  RelocResult last;
+  last.message = "no keyframe to relocalise against";
+  for (int i = 0; i < std::min<int>(candidates, static_cast<int>(ranked.size())); ++i) {
+    RelocResult r = against_keyframe(*ranked[i].second, current, guess, map);
+    if (r.ok) return r;
+    last = r;
+  }
+  return last;
+}
+
+}  // namespace hs

@@ -1,0 +1,42 @@
+#pragma once
+// Finds the cam1 correspondences of cam0 keypoints at a keyframe and triangulates them.
+// Pyramidal optical flow from left to right (no descriptors on cam1), checked by flowing back
+// and by the epipolar geometry of the calibrated, unrectified rig.
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "common/calib/camera_calib.h"
+
+namespace hs {
+
+struct StereoMatchOptions {
+  int window = 15;                 // optical-flow window, pixels
+  int pyramid_levels = 3;
+  double init_depth_m = 4.0;       // depth used to predict the right pixel
+  double max_epipolar_px = 1.0;    // reprojection error allowed in each camera
+  double max_backflow_px = 0.5;    // left -> right -> left round trip
+  double min_depth_m = 0.15;
+  double max_depth_m = 40.0;
+};
+
+struct StereoMatch {
+  bool valid = false;
+  Eigen::Vector2d uv1 = Eigen::Vector2d::Constant(-1);  // pixel in cam1
+  Eigen::Vector3d p_c0 = Eigen::Vector3d::Zero();       // point in cam0 frame
+};
+
+class StereoMatcher {
+ public:
+  StereoMatcher(const StereoCalib& calib, const StereoMatchOptions& options);
+  std::vector<StereoMatch> match(const cv::Mat& image0, const cv::Mat& image1,
+                                 const std::vector<Eigen::Vector2d>& uv0) const;
+
+ private:
+  StereoCalib calib_;
+  StereoMatchOptions options_;
+  Eigen::Isometry3d T_c0_c1_;
+  Eigen::Isometry3d T_c1_c0_;
+};
+
+}  // namespace hs

@@ -1,0 +1,546 @@
+#include "tracker/tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <unordered_set>
+
+#include "common/imu/imu_residual.h"
+#include "common/imu/static_init.h"
+#include "tracker/direct_patch.h"
+
+namespace hs {
+
+const char* to_string(TrackState state) {
+  switch (state) {
+    case TrackState::kInitialising: return "INITIALISING";
+    case TrackState::kTracking: return "TRACKING";
+    case TrackState::kLost: return "LOST";
+    case TrackState::kRelocalised: return "RELOCALISED";
+  }
+  return "?";
+}
+
+const char* to_string(TrackMethod method) {
+  switch (method) {
+    case TrackMethod::kNone: return "none";
+    case TrackMethod::kDirect: return "direct";
+    case TrackMethod::kDescriptors: return "descriptors";
+    case TrackMethod::kRelocalisedReference: return "relocalised (reference keyframe)";
+    case TrackMethod::kRelocalisedGlobal: return "relocalised (global)";
+  }
+  return "?";
+}
+
+namespace {
+
+// Wall time of consecutive pipeline stages, in the order they ran.
+class StageTimer {
+ public:
+  explicit StageTimer(FrameResult& result)
+      : result_(result), start_(Clock::now()), last_(start_) {}
+  void stage(const char* name) {
+    const auto now = Clock::now();
+    result_.stage_ms.emplace_back(name, ms(last_, now));
+    last_ = now;
+  }
+  ~StageTimer() { result_.total_ms = ms(start_, Clock::now()); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  static float ms(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<float, std::milli>(b - a).count();
+  }
+  FrameResult& result_;
+  Clock::time_point start_, last_;
+};
+
+Eigen::Matrix<double, 15, 1> initial_sigmas(bool static_start) {
+  // Pose: the gauge (origin, yaw) and the gravity direction from the accelerometer, so tight.
+  // Velocity: zero at rest, unknown in motion. Biases: gyro from the static mean.
+  Eigen::Matrix<double, 15, 1> s;
+  s << Eigen::Vector3d::Constant(1e-3), Eigen::Vector3d::Constant(1e-3),
+      Eigen::Vector3d::Constant(static_start ? 0.01 : 1.0),
+      Eigen::Vector3d::Constant(static_start ? 0.005 : 0.05), Eigen::Vector3d::Constant(0.2);
+  return s;
+}
+
+}  // namespace
+
+Tracker::Tracker(const TrackerOptions& options)
+    : options_(options),
+      imu_(options_.imu_buffer),
+      map_(options_.local_map),
+      optimizer_(options_.calib, options_.pose_opt),
+      aligner_(options_.direct.sparse),
+      builder_(options_),
+      relocaliser_(options_, optimizer_) {}
+
+Eigen::Isometry3d Tracker::T_w_c0(const NavState& nav) const {
+  Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();
+  T_w_b.linear() = nav.q_w_b.toRotationMatrix();
+  T_w_b.translation() = nav.p_w_b;
+  return T_w_b * options_.calib.cam0.T_b_c;
+}
+
+std::string Tracker::validate(const StereoFrame& frame) {
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  if (frame.cam0.empty() || frame.cam0.type() != CV_8UC1 || frame.cam0.cols != cam.width ||
+      frame.cam0.rows != cam.height) {
+    ++counters_.rejected_bad_image;
+    return "cam0 image is " + std::to_string(frame.cam0.cols) + "x" +
+           std::to_string(frame.cam0.rows) + (frame.cam0.type() == CV_8UC1 ? "" : " not mono8") +
+           ", expected " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+           " mono8: frame dropped";
+  }
+  if (last_ && frame.t_ns <= last_->t_ns) {
+    ++counters_.rejected_out_of_order;
+    return std::string(frame.t_ns == last_->t_ns ? "duplicate" : "out-of-order") +
+           " frame timestamp " + std::to_string(frame.t_ns) + " (previous " +
+           std::to_string(last_->t_ns) + "): frame dropped";
+  }
+  if (imu_.empty() || frame.t_ns - imu_.latest_t_ns() > options_.max_camera_imu_offset_ns) {
+    ++counters_.rejected_clock_offset;
+    return imu_.empty() ? "no IMU data yet: frame dropped"
+                        : "IMU is " + std::to_string((frame.t_ns - imu_.latest_t_ns()) / 1000000) +
+                              " ms behind the camera (limit " +
+                              std::to_string(options_.max_camera_imu_offset_ns / 1000000) +
+                              " ms): frame dropped";
+  }
+  return "";
+}
+
+FrameResult Tracker::track(const StereoFrame& frame_in) {
+  FrameResult r;
+  r.t_ns = frame_in.t_ns;
+  r.seq = frame_in.seq;
+  r.state = state_;
+  r.map_id = map_id_;
+  if (std::string err = validate(frame_in); !err.empty()) {
+    r.message = std::move(err);
+    return r;
+  }
+  StereoFrame frame = frame_in;
+  if (options_.stereo) {
+    const bool bad_right = !frame.cam1.empty() && (frame.cam1.size() != frame.cam0.size() ||
+                                                   frame.cam1.type() != CV_8UC1);
+    if (frame.cam1.empty() || bad_right) {
+      ++counters_.missing_right_image;
+      r.message = bad_right ? "cam1 image has the wrong size or type: tracked with cam0 only"
+                            : "cam1 image missing: tracked with cam0 only";
+      frame.cam1 = cv::Mat();
+    }
+  } else {
+    frame.cam1 = cv::Mat();
+  }
+  r.accepted = true;
+  ++counters_.frames;
+  StageTimer timer(r);
+  ImagePyramid pyr = build_pyramid(frame.cam0, options_.pyramid_levels);
+  timer.stage("pyramid");
+
+  if (state_ == TrackState::kInitialising) {
+    initialise(frame, pyr, r);
+    timer.stage("initialise");
+    return r;
+  }
+
+  const ImuPreintegration pim = preintegrate_since_last(frame.t_ns);
+  NavState predicted = predict(last_->nav, pim, default_gravity_w());
+  predicted.t_ns = frame.t_ns;
+  const Eigen::Isometry3d T_w_c_pred = T_w_c0(predicted);
+  timer.stage("imu_predict");
+
+  Correspondences corr;
+  OrbFeatures features;
+  bool have_features = false;
+  TrackMethod method = TrackMethod::kDescriptors;
+  if (options_.descriptors == DescriptorMode::kHybrid) {
+    const std::optional<Eigen::Isometry3d> aligned = align_to_last(pyr, T_w_c_pred);
+    timer.stage("direct_align");
+    // Without the photometric refinement the IMU prediction is the guess: search wider.
+    corr = direct_correspondences(pyr, aligned ? *aligned : T_w_c_pred,
+                                  aligned ? options_.patch_search_radius_px
+                                          : 3.0 * options_.patch_search_radius_px);
+    timer.stage("patch_align");
+    method = TrackMethod::kDirect;
+  }
+  if (corr.obs.size() < static_cast<size_t>(2 * options_.pose_opt.min_inliers)) {
+    // Every-frame mode, or the direct correspondences failed (Sec. 3.1.3): descriptors.
+    features = builder_.orb().extract(frame.cam0);
+    have_features = true;
+    timer.stage("orb_extract");
+    corr = descriptor_correspondences(features, T_w_c_pred);
+    timer.stage("descriptor_match");
+    method = TrackMethod::kDescriptors;
+  }
+
+  const PoseOptResult opt = optimise(predicted, corr, pim);
+  timer.stage("pose_opt");
+  if (opt.valid()) {
+    std::vector<TrackedObservation> tracked;
+    for (size_t i = 0; i < corr.obs.size(); ++i)
+      if (opt.inliers[i]) tracked.push_back({corr.point_ids[i], corr.obs[i].uv});
+    state_ = TrackState::kTracking;
+    lost_since_ns_ = -1;
+    r.method = method;
+    accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
+           have_features ? &features : nullptr, r);
+    timer.stage("keyframe");
+    return r;
+  }
+
+  // Failure check fired (Algorithm 1): relocalise with the reference keyframe (Eq. 7), then
+  // globally (Eq. 8).
+  std::string why = "tracking failed (" + opt.reason + ")";
+  if (!have_features) features = builder_.orb().extract(frame.cam0);
+  RelocResult reloc;
+  if (auto ref = map_.latest_keyframe()) {
+    reloc = relocaliser_.against_keyframe(*ref, features, predicted, map_);
+    r.method = TrackMethod::kRelocalisedReference;
+  }
+  if (!reloc.ok) {
+    reloc = relocaliser_.global(pyr.levels.back(), features, predicted, map_);
+    r.method = TrackMethod::kRelocalisedGlobal;
+  }
+  timer.stage("relocalise");
+  if (reloc.ok) {
+    ++counters_.relocalisations;
+    NavState nav = reloc.nav;
+    nav.v_w = predicted.v_w;
+    const double jump = (nav.p_w_b - predicted.p_w_b).norm();
+    r.message = why + "; " + reloc.message;
+    // A relocalisation that moves the estimate far from the IMU prediction is a stated jump.
+    if (jump > 0.1) {
+      ++map_id_;
+      r.message += "; pose jumped " + std::to_string(jump) + " m: map id now " +
+                   std::to_string(map_id_);
+    }
+    state_ = TrackState::kRelocalised;
+    lost_since_ns_ = -1;
+    r.map_id = map_id_;
+    accept(frame, std::move(pyr), nav, std::move(reloc.tracked), nullptr, &features, r);
+    timer.stage("keyframe");
+    return r;
+  }
+
+  // Lost: the IMU carries the state; after a while a new local map starts in place.
+  ++counters_.lost_frames;
+  if (lost_since_ns_ < 0) lost_since_ns_ = frame.t_ns;
+  state_ = TrackState::kLost;
+  r.method = TrackMethod::kNone;
+  r.message = why + "; relocalisation failed: " + reloc.message;
+  if (frame.t_ns - lost_since_ns_ >= options_.reinit_after_lost_ns && frame.stereo()) {
+    start_map_in_place(frame, pyr, predicted, r);
+    timer.stage("reinitialise");
+    if (state_ != TrackState::kLost) return r;
+  }
+  r.state = state_;
+  r.nav = predicted;
+  r.quality = 0.0f;
+  LastFrame lf;
+  lf.t_ns = frame.t_ns;
+  lf.pyramid = std::move(pyr);
+  lf.nav = predicted;
+  last_ = std::move(lf);
+  return r;
+}
+
+ImuPreintegration Tracker::preintegrate_since_last(int64_t t_ns) {
+  ImuBias bias;
+  bias.gyro = last_->nav.gyro_bias;
+  bias.accel = last_->nav.accel_bias;
+  ImuPreintegration pim =
+      preintegrate(imu_.window(last_->t_ns, t_ns), last_->t_ns, t_ns, bias, options_.imu);
+  if (pim.status().has_gap()) ++counters_.imu_gaps;
+  return pim;
+}
+
+std::optional<Eigen::Isometry3d> Tracker::align_to_last(const ImagePyramid& pyr,
+                                                        const Eigen::Isometry3d& T_w_c_pred) {
+  if (last_->tracked.size() < static_cast<size_t>(options_.direct.sparse.min_points))
+    return std::nullopt;
+  const Eigen::Isometry3d T_w_c_last = T_w_c0(last_->nav);
+  const Eigen::Isometry3d T_c_w_last = T_w_c_last.inverse();
+  std::vector<Eigen::Vector3d> p_ref;
+  p_ref.reserve(last_->tracked.size());
+  for (const TrackedObservation& t : last_->tracked)
+    if (const MapPoint* p = map_.point(t.point_id)) p_ref.push_back(T_c_w_last * p->p_w);
+  if (p_ref.size() < static_cast<size_t>(options_.direct.sparse.min_points)) return std::nullopt;
+  const SparseAlignResult res =
+      aligner_.align(last_->pyramid, pyr, options_.calib.cam0.intrinsics, p_ref,
+                     T_w_c_pred.inverse() * T_w_c_last);
+  if (!res.valid()) return std::nullopt;
+  return T_w_c_last * res.T_cur_ref.inverse();
+}
+
+Tracker::Correspondences Tracker::direct_correspondences(const ImagePyramid& pyr,
+                                                         const Eigen::Isometry3d& T_w_c,
+                                                         double search_radius_px) {
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  const Eigen::Isometry3d T_c_w = T_w_c.inverse();
+  std::unordered_set<int64_t> in_last;
+  for (const TrackedObservation& t : last_->tracked) in_last.insert(t.point_id);
+
+  // Candidates visible in the predicted view; points tracked in the previous frame first,
+  // then the most often tracked, one per grid cell before any cell gets a second.
+  struct Candidate {
+    const MapPoint* point;
+    Eigen::Vector2d uv;
+    int cell;
+    int priority;
+  };
+  std::vector<Candidate> candidates;
+  const int grid = options_.point_grid_px;
+  const int cols = (cam.width + grid - 1) / grid;
+  for (const auto& [id, p] : map_.points()) {
+    const Eigen::Vector3d p_c = T_c_w * p.p_w;
+    Eigen::Vector2d uv;
+    if (p_c.z() < 0.1 || !cam.project(p_c, &uv) || !cam.in_image(uv, 8.0)) continue;
+    const int cell = static_cast<int>(uv.y()) / grid * cols + static_cast<int>(uv.x()) / grid;
+    candidates.push_back({&p, uv, cell, (in_last.count(id) ? 1000000 : 0) + p.times_tracked});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.priority != b.priority ? a.priority > b.priority : a.point->id < b.point->id;
+  });
+  std::vector<int> per_cell(static_cast<size_t>(cols * ((cam.height + grid - 1) / grid)), 0);
+  std::vector<const Candidate*> selected;
+  for (int round = 1; selected.size() < static_cast<size_t>(options_.max_points_per_frame) &&
+                      round <= 4;
+       ++round)
+    for (const Candidate& c : candidates) {
+      if (per_cell[c.cell] != round - 1) continue;
+      ++per_cell[c.cell];
+      selected.push_back(&c);
+      if (selected.size() == static_cast<size_t>(options_.max_points_per_frame)) break;
+    }
+
+  Correspondences out;
+  for (const Candidate* c : selected) {
+    const std::shared_ptr<Keyframe> kf = map_.keyframe(c->point->ref_keyframe_id);
+    if (!kf || kf->pyramid.levels.empty()) continue;
+    const Eigen::Isometry3d T_cur_ref = T_c_w * kf->T_w_c0;
+    const Eigen::Vector3d p_ref = kf->T_w_c0.inverse() * c->point->p_w;
+    const Eigen::Matrix2d A = affine_warp_cur_ref(cam, p_ref, T_cur_ref);
+    const PatchAlignResult res = align_patch(kf->pyramid, c->point->ref_uv, A, pyr, c->uv,
+                                             search_radius_px, options_.direct.patch);
+    if (!res.ok()) continue;
+    PoseObservation o;
+    o.p_w = c->point->p_w;
+    o.uv = res.uv_cur;
+    out.obs.push_back(o);
+    out.point_ids.push_back(c->point->id);
+  }
+  return out;
+}
+
+Tracker::Correspondences Tracker::descriptor_correspondences(const OrbFeatures& features,
+                                                             const Eigen::Isometry3d& T_w_c) {
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  const Eigen::Isometry3d T_c_w = T_w_c.inverse();
+  std::vector<const MapPoint*> visible;
+  std::vector<Eigen::Vector2d> predicted;
+  for (const auto& [id, p] : map_.points()) {
+    const Eigen::Vector3d p_c = T_c_w * p.p_w;
+    Eigen::Vector2d uv;
+    if (p_c.z() < 0.1 || !cam.project(p_c, &uv)) continue;
+    visible.push_back(&p);
+    predicted.push_back(uv);
+  }
+  // Deterministic order regardless of hash-map iteration.
+  std::vector<size_t> order(visible.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return visible[a]->id < visible[b]->id; });
+  cv::Mat query(static_cast<int>(visible.size()), 32, CV_8U);
+  std::vector<Eigen::Vector2d> predicted_sorted;
+  for (size_t k = 0; k < order.size(); ++k) {
+    std::memcpy(query.ptr<uint8_t>(static_cast<int>(k)), visible[order[k]]->descriptor.data(), 32);
+    predicted_sorted.push_back(predicted[order[k]]);
+  }
+  std::vector<Eigen::Vector2f> kp_uv;
+  for (const cv::KeyPoint& kp : features.keypoints) kp_uv.emplace_back(kp.pt.x, kp.pt.y);
+  const KeypointGrid grid(kp_uv, cam.width, cam.height);
+  const std::vector<int> match =
+      match_by_projection(query, predicted_sorted, features.descriptors, grid, options_.matching);
+  Correspondences out;
+  for (size_t k = 0; k < match.size(); ++k) {
+    if (match[k] < 0) continue;
+    const cv::KeyPoint& kp = features.keypoints[match[k]];
+    PoseObservation o;
+    o.p_w = visible[order[k]]->p_w;
+    o.uv = Eigen::Vector2d(kp.pt.x, kp.pt.y);
+    o.sigma_px = level_sigma_px(kp.octave, options_.orb.scale_factor);
+    out.obs.push_back(o);
+    out.point_ids.push_back(visible[order[k]]->id);
+  }
+  return out;
+}
+
+PoseOptResult Tracker::optimise(const NavState& predicted, const Correspondences& c,
+                                const ImuPreintegration& pim) {
+  PreviousState prev;
+  prev.state = last_->nav;
+  prev.fixed = !last_->has_information;
+  prev.information = last_->information;
+  if (pim.t1_ns() > pim.t0_ns()) {
+    try {
+      return optimizer_.optimise_inertial(predicted, c.obs, pim, prev);
+    } catch (const std::invalid_argument&) {
+      // Degenerate preintegration (e.g. no IMU across the interval): vision alone.
+    }
+  }
+  return optimizer_.optimise_pose(predicted, c.obs);
+}
+
+void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState& nav,
+                     std::vector<TrackedObservation> tracked, const PoseOptResult* opt,
+                     const OrbFeatures* features, FrameResult& r) {
+  for (const TrackedObservation& t : tracked)
+    if (MapPoint* p = map_.point(t.point_id)) ++p->times_tracked;
+
+  std::vector<Eigen::Vector2d> uv_kf, uv_cur;
+  for (const TrackedObservation& t : tracked)
+    if (const auto it = last_keyframe_uv_.find(t.point_id); it != last_keyframe_uv_.end()) {
+      uv_kf.push_back(it->second);
+      uv_cur.push_back(t.uv);
+    }
+  const Eigen::Isometry3d T_w_c = T_w_c0(nav);
+  const KeyframeDecision decision =
+      decide_keyframe(options_.keyframe, pose_change_norm(last_keyframe_T_w_c_, T_w_c),
+                      mean_parallax(uv_kf, uv_cur), static_cast<int>(tracked.size()),
+                      frame.t_ns - last_keyframe_t_ns_);
+  if (decision.is_keyframe || r.state == TrackState::kRelocalised) {
+    KeyframeBuildStats stats;
+    auto kf = builder_.build(frame, pyr, nav, tracked, features, map_, &stats);
+    if (const auto prev = map_.latest_keyframe()) kf->prev_keyframe_id = prev->id;
+    kf->imu = imu_.window(last_keyframe_t_ns_, frame.t_ns);
+    // The new points are tracked from the next frame on.
+    for (size_t i = 0; i < kf->point_ids.size(); ++i)
+      if (kf->point_ids[i] >= 0 && kf->depth[i] > 0 && !std::any_of(tracked.begin(), tracked.end(),
+                                                                  [&](const TrackedObservation& t) {
+                                                                    return t.point_id ==
+                                                                           kf->point_ids[i];
+                                                                  }))
+        tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
+                                                             kf->features.keypoints[i].pt.y)});
+    map_.add_keyframe(kf);
+    ++counters_.keyframes;
+    last_keyframe_t_ns_ = frame.t_ns;
+    last_keyframe_T_w_c_ = T_w_c;
+    last_keyframe_uv_.clear();
+    for (const TrackedObservation& t : tracked) last_keyframe_uv_[t.point_id] = t.uv;
+    r.is_keyframe = true;
+    r.keyframe = kf;
+    const std::string why = decision.is_keyframe ? decision.reason : "relocalised";
+    r.message += (r.message.empty() ? "" : "; ") + std::string("keyframe (") + why + ", " +
+                 std::to_string(stats.new_points) + " new points)";
+  }
+  r.state = state_;
+  r.nav = nav;
+  r.tracked_points = static_cast<int>(tracked.size());
+  if (opt) r.pose_covariance = opt->pose_covariance;
+  r.quality = static_cast<float>(std::min(
+      1.0, static_cast<double>(r.tracked_points) / (2.0 * options_.keyframe.min_tracked)));
+
+  LastFrame lf;
+  lf.t_ns = frame.t_ns;
+  lf.pyramid = std::move(pyr);
+  lf.nav = nav;
+  lf.tracked = std::move(tracked);
+  if (opt && !opt->information.isZero()) {
+    lf.information = opt->information;
+    lf.has_information = true;
+  }
+  last_ = std::move(lf);
+}
+
+bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& r) {
+  r.state = TrackState::kInitialising;
+  if (!frame.stereo()) {
+    r.message = "initialising: waiting for a stereo frame";
+    return false;
+  }
+  const std::vector<ImuSample> window =
+      imu_.window(frame.t_ns - options_.static_init_window_ns, frame.t_ns);
+  const StaticInitResult gravity = initialise_from_static(window, options_.imu);
+  if (gravity.samples_used < 10) {
+    r.message = "initialising: waiting for IMU samples";
+    return false;
+  }
+  NavState nav;
+  nav.t_ns = frame.t_ns;
+  nav.q_w_b = gravity.q_w_b;
+  if (gravity.ok) nav.gyro_bias = gravity.gyro_bias;
+  start_map_in_place(frame, pyr, nav, r);
+  if (state_ == TrackState::kInitialising) return false;
+  // The first state's prior: see initial_sigmas.
+  const Eigen::Matrix<double, 15, 1> sigma = initial_sigmas(gravity.ok);
+  last_->information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+  last_->has_information = true;
+  r.message += gravity.ok ? "; static start: gravity and gyro bias from the IMU"
+                          : "; moving start (" + gravity.reason +
+                                "): gravity from the mean acceleration, velocity estimated";
+  return true;
+}
+
+void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr,
+                                 const NavState& nav, FrameResult& r) {
+  LocalMap trial_map = map_;
+  trial_map.retire_window();
+  KeyframeBuildStats stats;
+  auto kf = builder_.build(frame, pyr, nav, {}, nullptr, trial_map, &stats);
+  if (stats.new_points < options_.init_min_points) {
+    r.message += (r.message.empty() ? "" : "; ") + std::string("map start needs ") +
+                 std::to_string(options_.init_min_points) + " stereo points, found " +
+                 std::to_string(stats.new_points);
+    return;
+  }
+  const bool first = state_ == TrackState::kInitialising;
+  map_ = std::move(trial_map);
+  map_.add_keyframe(kf);
+  ++counters_.keyframes;
+  if (!first) ++counters_.reinitialisations;
+  state_ = TrackState::kTracking;
+  lost_since_ns_ = -1;
+
+  std::vector<TrackedObservation> tracked;
+  for (size_t i = 0; i < kf->point_ids.size(); ++i)
+    if (kf->point_ids[i] >= 0)
+      tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
+                                                           kf->features.keypoints[i].pt.y)});
+  last_keyframe_t_ns_ = frame.t_ns;
+  last_keyframe_T_w_c_ = T_w_c0(nav);
+  last_keyframe_uv_.clear();
+  for (const TrackedObservation& t : tracked) last_keyframe_uv_[t.point_id] = t.uv;
+
+  r.state = state_;
+  r.nav = nav;
+  r.is_keyframe = true;
+  r.keyframe = kf;
+  r.tracked_points = static_cast<int>(tracked.size());
+  r.quality = 0.5f;
+  r.message += (r.message.empty() ? "" : "; ") +
+               std::string(first ? "map initialised" : "new local map started in place") +
+               " with " + std::to_string(stats.new_points) + " stereo points";
+  LastFrame lf;
+  lf.t_ns = frame.t_ns;
+  lf.pyramid = pyr;
+  lf.nav = nav;
+  lf.tracked = std::move(tracked);
+  last_ = std::move(lf);
+}
+
+std::optional<NavState> Tracker::propagate(int64_t t_ns) const {
+  if (!last_ || state_ == TrackState::kInitialising || t_ns < last_->t_ns) return std::nullopt;
+  ImuBias bias;
+  bias.gyro = last_->nav.gyro_bias;
+  bias.accel = last_->nav.accel_bias;
+  const ImuPreintegration pim =
+      preintegrate(imu_.window(last_->t_ns, t_ns), last_->t_ns, t_ns, bias, options_.imu);
+  NavState s = predict(last_->nav, pim, default_gravity_w());
+  s.t_ns = t_ns;
+  return s;
+}
+
+}  // namespace hs

@@ -1,0 +1,108 @@
+#pragma once
+// The HS-SLAM tracker (paper Algorithm 1, stereo-inertial): per frame, IMU prediction (Eq. 16),
+// coarse-to-fine direct alignment against the previous frame (Eq. 17-18), per-point patch
+// alignment of local-map points against their reference keyframes, motion-only
+// visual-inertial optimisation (Eq. 5-6), the failure check, relocalisation (Eq. 7-8), and the
+// keyframe decision (Eq. 13-15) with ORB extraction only at keyframes. It keeps its own bounded
+// local map, so it runs without a mapper. Single-threaded and deterministic.
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "common/dataset/stereo_frame.h"
+#include "tracker/direct_align.h"
+#include "tracker/imu_buffer.h"
+#include "tracker/keyframe_builder.h"
+#include "tracker/local_map.h"
+#include "tracker/pose_opt.h"
+#include "tracker/relocaliser.h"
+#include "tracker/tracker_options.h"
+#include "tracker/tracker_types.h"
+
+namespace hs {
+
+struct TrackerCounters {
+  int64_t frames = 0;
+  int64_t keyframes = 0;
+  int64_t rejected_out_of_order = 0;   // frame timestamp not after the previous frame's
+  int64_t rejected_bad_image = 0;      // wrong size / type, or empty
+  int64_t rejected_clock_offset = 0;   // frame too far from the IMU clock
+  int64_t missing_right_image = 0;     // stereo rig, cam1 absent (tracked with cam0 only)
+  int64_t imu_gaps = 0;                // frame intervals with an IMU gap (bridged)
+  int64_t lost_frames = 0;
+  int64_t relocalisations = 0;
+  int64_t reinitialisations = 0;
+};
+
+class Tracker {
+ public:
+  explicit Tracker(const TrackerOptions& options);
+
+  // IMU samples must be added before the frames they cover (in sensor-time order overall).
+  ImuReject add_imu(const ImuSample& sample) { return imu_.push(sample); }
+  FrameResult track(const StereoFrame& frame);
+
+  // The latest tracked state propagated with the IMU to t_ns (POSE_IMU); nullopt before the
+  // first tracked frame or when t_ns precedes it.
+  std::optional<NavState> propagate(int64_t t_ns) const;
+
+  const TrackerCounters& counters() const { return counters_; }
+  const ImuBufferCounters& imu_counters() const { return imu_.counters(); }
+  const LocalMap& map() const { return map_; }
+  const TrackerOptions& options() const { return options_; }
+  TrackState state() const { return state_; }
+
+ private:
+  struct LastFrame {
+    int64_t t_ns = 0;
+    ImagePyramid pyramid;
+    NavState nav;
+    std::vector<TrackedObservation> tracked;
+    Matrix15d information = Matrix15d::Zero();
+    bool has_information = false;
+  };
+  struct Correspondences {
+    std::vector<PoseObservation> obs;
+    std::vector<int64_t> point_ids;
+  };
+
+  std::string validate(const StereoFrame& frame);
+  bool initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& result);
+  ImuPreintegration preintegrate_since_last(int64_t t_ns);
+  Eigen::Isometry3d T_w_c0(const NavState& nav) const;
+  // Stage 1 (Eq. 17-18): relative pose to the previous frame by sparse alignment.
+  std::optional<Eigen::Isometry3d> align_to_last(const ImagePyramid& pyr,
+                                                 const Eigen::Isometry3d& T_w_c_pred);
+  // Stage 2: local-map points found in the current image by patch alignment.
+  Correspondences direct_correspondences(const ImagePyramid& pyr, const Eigen::Isometry3d& T_w_c,
+                                         double search_radius_px);
+  Correspondences descriptor_correspondences(const OrbFeatures& features,
+                                             const Eigen::Isometry3d& T_w_c);
+  PoseOptResult optimise(const NavState& predicted, const Correspondences& c,
+                         const ImuPreintegration& pim);
+  void accept(const StereoFrame& frame, ImagePyramid pyr, const NavState& nav,
+              std::vector<TrackedObservation> tracked, const PoseOptResult* opt,
+              const OrbFeatures* features, FrameResult& result);
+  void start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr, const NavState& nav,
+                          FrameResult& result);
+
+  TrackerOptions options_;
+  ImuBuffer imu_;
+  LocalMap map_;
+  PoseOptimizer optimizer_;
+  SparseAligner aligner_;
+  KeyframeBuilder builder_;
+  Relocaliser relocaliser_;
+  TrackerCounters counters_;
+
+  TrackState state_ = TrackState::kInitialising;
+  int32_t map_id_ = 0;
+  std::optional<LastFrame> last_;
+  int64_t last_keyframe_t_ns_ = 0;
+  Eigen::Isometry3d last_keyframe_T_w_c_ = Eigen::Isometry3d::Identity();
+  std::unordered_map<int64_t, Eigen::Vector2d> last_keyframe_uv_;  // point pixels at the keyframe
+  int64_t lost_since_ns_ = -1;
+};
+
+}  // namespace hs

@@ -1,0 +1,155 @@
+#include "tracker/tracker_options.h"
+
+#include <filesystem>
+
+#include "common/config/config_section.h"
+#include "common/config/yaml_file.h"
+#include "common/core/error.h"
+
+namespace hs {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Paths in a config are relative to the config file.
+std::string resolve(const std::string& config_path, const std::string& path) {
+  const fs::path p(path);
+  return p.is_absolute() ? path : (fs::path(config_path).parent_path() / p).string();
+}
+
+// The noise model of an EuRoC/Kalibr IMU sensor.yaml.
+ImuNoise read_imu_yaml(const std::string& path) {
+  const YAML::Node root = load_yaml_file(path);
+  ImuNoise n;
+  const auto get = [&](const char* key, double& out) {
+    const YAML::Node v = root[key];
+    if (!v) throw InputError(path, std::string("missing key '") + key + "'");
+    try {
+      out = v.as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be a number");
+    }
+    if (!(out > 0)) throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be > 0");
+  };
+  get("gyroscope_noise_density", n.gyro_noise_density);
+  get("gyroscope_random_walk", n.gyro_random_walk);
+  get("accelerometer_noise_density", n.accel_noise_density);
+  get("accelerometer_random_walk", n.accel_random_walk);
+  get("rate_hz", n.rate_hz);
+  return n;
+}
+
+void read_orb(ConfigSection& s, OrbOptions& o) {
+  s.read("num_features", o.num_features);
+  double scale = o.scale_factor;
+  s.read("scale_factor", scale);
+  o.scale_factor = static_cast<float>(scale);
+  s.read("num_levels", o.num_levels);
+  s.read("fast_threshold", o.fast_threshold);
+  s.read("grid_cols", o.grid_cols);
+  s.read("grid_rows", o.grid_rows);
+  if (o.num_features < 10 || scale <= 1.0 || o.num_levels < 1 || o.grid_cols < 1 || o.grid_rows < 1)
+    s.fail("num_features", "ORB options out of range");
+}
+
+void read_direct(ConfigSection& s, DirectOptions& o) {
+  s.section("sparse", [&](ConfigSection& c) {
+    c.read("coarsest_level", o.sparse.coarsest_level);
+    c.read("finest_level", o.sparse.finest_level);
+    c.read("max_iterations", o.sparse.max_iterations);
+    c.read("huber_k", o.sparse.huber_k);
+    c.read("outlier_factor", o.sparse.outlier_factor);
+    c.read("min_points", o.sparse.min_points);
+    c.read("min_inlier_ratio", o.sparse.min_inlier_ratio);
+    c.read("estimate_affine", o.sparse.estimate_affine);
+  });
+  s.section("patch", [&](ConfigSection& c) {
+    c.read("max_iterations", o.patch.max_iterations);
+    c.read("max_rms_residual", o.patch.max_rms_residual);
+    c.read("capture_radius_px", o.patch.capture_radius_px);
+  });
+}
+
+void read_pose_opt(ConfigSection& s, PoseOptOptions& o) {
+  s.read("rounds", o.rounds);
+  s.read("iterations_per_round", o.iterations_per_round);
+  s.read("chi2_threshold", o.chi2_threshold);
+  s.read("min_inliers", o.min_inliers);
+  s.read("max_rms_px", o.max_rms_px);
+  if (o.min_inliers < 3) s.fail("min_inliers", "N_min must be at least 3");
+}
+
+void read_keyframe(ConfigSection& s, KeyframePolicyOptions& o) {
+  s.read("pose_change", o.pose_change);
+  s.read("parallax_px", o.parallax_px);
+  s.read("min_tracked", o.min_tracked);
+  double min_s = static_cast<double>(o.min_interval_ns) * 1e-9;
+  double max_s = static_cast<double>(o.max_interval_ns) * 1e-9;
+  s.read("min_interval_s", min_s);
+  s.read("max_interval_s", max_s);
+  if (min_s < 0 || max_s <= min_s) s.fail("max_interval_s", "needs 0 <= min_interval_s < max_interval_s");
+  o.min_interval_ns = static_cast<int64_t>(min_s * 1e9);
+  o.max_interval_ns = static_cast<int64_t>(max_s * 1e9);
+}
+
+}  // namespace
+
+TrackerOptions load_tracker_options(const std::string& path) {
+  TrackerOptions o;
+  ConfigSection top = ConfigSection::load(path);
+  top.section("calibration", [&](ConfigSection& s) {
+    std::string cam0, cam1, imu;
+    if (s.read("cam0", cam0)) o.calib.cam0 = read_camera_yaml(resolve(path, cam0));
+    if (s.read("cam1", cam1)) o.calib.cam1 = read_camera_yaml(resolve(path, cam1));
+    if (s.read("imu", imu)) o.imu.noise = read_imu_yaml(resolve(path, imu));
+  });
+  top.section("tracker", [&](ConfigSection& s) {
+    std::string rig = o.stereo ? "stereo" : "mono";
+    s.read("rig", rig);
+    if (rig != "stereo" && rig != "mono") s.fail("rig", "must be 'stereo' or 'mono'");
+    o.stereo = rig == "stereo";
+    std::string mode = o.descriptors == DescriptorMode::kHybrid ? "hybrid" : "every-frame";
+    s.read("descriptors", mode);
+    if (mode != "hybrid" && mode != "every-frame") s.fail("descriptors", "must be 'hybrid' or 'every-frame'");
+    o.descriptors = mode == "hybrid" ? DescriptorMode::kHybrid : DescriptorMode::kEveryFrame;
+    s.read("pyramid_levels", o.pyramid_levels);
+    if (o.pyramid_levels < 1 || o.pyramid_levels > 6) s.fail("pyramid_levels", "must be 1..6");
+    s.read("max_points_per_frame", o.max_points_per_frame);
+    s.read("point_grid_px", o.point_grid_px);
+    s.read("patch_search_radius_px", o.patch_search_radius_px);
+    s.read("init_min_points", o.init_min_points);
+    s.read("reloc_min_inliers", o.reloc_min_inliers);
+    double reinit_s = static_cast<double>(o.reinit_after_lost_ns) * 1e-9;
+    s.read("reinit_after_lost_s", reinit_s);
+    o.reinit_after_lost_ns = static_cast<int64_t>(reinit_s * 1e9);
+    double offset_s = static_cast<double>(o.max_camera_imu_offset_ns) * 1e-9;
+    s.read("max_camera_imu_offset_s", offset_s);
+    o.max_camera_imu_offset_ns = static_cast<int64_t>(offset_s * 1e9);
+    s.read("local_map_keyframes", o.local_map.max_keyframes);
+    s.read("relocalisation_keyframes", o.local_map.max_database_keyframes);
+    if (o.max_points_per_frame < 10 || o.point_grid_px < 4 || o.local_map.max_keyframes < 2)
+      s.fail("max_points_per_frame", "tracker options out of range");
+  });
+  top.section("orb", [&](ConfigSection& s) { read_orb(s, o.orb); });
+  top.section("stereo_matching", [&](ConfigSection& s) {
+    s.read("window", o.stereo_match.window);
+    s.read("max_epipolar_px", o.stereo_match.max_epipolar_px);
+    s.read("min_depth_m", o.stereo_match.min_depth_m);
+    s.read("max_depth_m", o.stereo_match.max_depth_m);
+  });
+  top.section("descriptor_matching", [&](ConfigSection& s) {
+    s.read("max_distance", o.matching.max_distance);
+    double ratio = o.matching.ratio;
+    s.read("ratio", ratio);
+    o.matching.ratio = static_cast<float>(ratio);
+    s.read("search_radius_px", o.matching.search_radius_px);
+  });
+  top.section("direct", [&](ConfigSection& s) { read_direct(s, o.direct); });
+  top.section("pose_optimisation", [&](ConfigSection& s) { read_pose_opt(s, o.pose_opt); });
+  top.section("keyframes", [&](ConfigSection& s) { read_keyframe(s, o.keyframe); });
+  o.channels = read_channel_names(top);
+  top.finish();
+  return o;
+}
+
+}  // namespace hs

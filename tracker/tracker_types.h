@@ -1,0 +1,48 @@
+#pragma once
+// What the tracker reports for every frame (published as POSE and TRACKER_STATUS).
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/core/types.h"
+
+namespace hs {
+
+struct Keyframe;
+
+// Values match odometry_t's state constants.
+enum class TrackState { kInitialising = 0, kTracking = 1, kLost = 2, kRelocalised = 3 };
+// Values match tracker_status_t's method constants.
+enum class TrackMethod {
+  kNone = 0,
+  kDirect = 1,
+  kDescriptors = 2,
+  kRelocalisedReference = 3,
+  kRelocalisedGlobal = 4
+};
+
+const char* to_string(TrackState state);
+const char* to_string(TrackMethod method);
+
+struct FrameResult {
+  int64_t t_ns = 0;
+  int64_t seq = 0;
+  bool accepted = false;  // false: the frame was rejected as bad input (see message)
+  TrackState state = TrackState::kInitialising;
+  TrackMethod method = TrackMethod::kNone;
+  NavState nav;                          // body state; valid when accepted and not initialising
+  Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  float quality = 0.0f;                  // 0..1
+  int32_t map_id = 0;
+  bool is_keyframe = false;
+  std::shared_ptr<const Keyframe> keyframe;  // the new keyframe, when is_keyframe
+  int tracked_points = 0;
+  std::vector<std::pair<std::string, float>> stage_ms;
+  float total_ms = 0.0f;
+  std::string message;
+};
+
+}  // namespace hs
