@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job: dataset -> LCM log -> stock lcm-logplayer over UDP multicast -> recorded
-# trajectory -> hs-eval against the dataset's ground truth (summary, JSON, PNG plot).
-#   tools/demo.sh [EUROC_DIR]      default: the bundled real EuRoC sample
+# The main job.
+#  1. Replay: dataset -> LCM log -> stock lcm-logplayer over UDP multicast -> recorded
+#     trajectory -> hs-eval against the dataset's ground truth (summary, JSON, PNG plot).
+#  2. Tracking: the tracker over a simulated room_mav flight (in memory), with accuracy and timing.
+#   tools/demo.sh [EUROC_DIR]      default: the bundled real EuRoC sample for part 1
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=build/bin
@@ -9,7 +11,7 @@ DATASET=${1:-tests/data/euroc_v1_01_static_sample}
 OUT=out/demo
 mkdir -p "$OUT"
 
-for tool in hs-euroc2lcm hs-record-trajectory hs-eval; do
+for tool in hs-euroc2lcm hs-record-trajectory hs-eval hs-run; do
   [ -x "$BIN/$tool" ] || { echo "demo: $BIN/$tool missing: run tools/setup.sh first" >&2; exit 1; }
 done
 command -v lcm-logplayer >/dev/null || { echo "demo: lcm-logplayer missing (liblcm-bin)" >&2; exit 1; }
@@ -18,10 +20,10 @@ command -v lcm-logplayer >/dev/null || { echo "demo: lcm-logplayer missing (libl
 PORT=$((20000 + RANDOM % 20000))
 URL="udpm://239.255.76.67:${PORT}?ttl=0&recv_buf_size=16777216"
 
-echo "== 1/3 convert $DATASET to an LCM log"
+echo "== 1/4 convert $DATASET to an LCM log"
 "$BIN/hs-euroc2lcm" --dataset "$DATASET" --out "$OUT/dataset.lcmlog"
 
-echo "== 2/3 replay with lcm-logplayer over $URL and record GROUND_TRUTH"
+echo "== 2/4 replay with lcm-logplayer over $URL and record GROUND_TRUTH"
 "$BIN/hs-record-trajectory" --channel GROUND_TRUTH --out "$OUT/replayed.tum" \
   --lcm-url "$URL" --idle-timeout 3 &
 recorder=$!
@@ -29,11 +31,15 @@ sleep 0.5
 lcm-logplayer -l "$URL" "$OUT/dataset.lcmlog"
 wait "$recorder"
 
-echo "== 3/3 evaluate the replayed trajectory against the dataset's ground truth"
+echo "== 3/4 evaluate the replayed trajectory against the dataset's ground truth"
 GT=""
 for f in "$DATASET"/mav0/state_groundtruth_estimate0/data.csv "$DATASET"/state_groundtruth_estimate0/data.csv; do
   if [ -f "$f" ]; then GT=$f; break; fi
 done
 [ -n "$GT" ] || { echo "demo: $DATASET has no state_groundtruth_estimate0/data.csv" >&2; exit 1; }
 "$BIN/hs-eval" "$GT" "$OUT/replayed.tum" --align --json "$OUT/eval.json" --plot "$OUT/eval.png"
-echo "demo: outputs in $OUT/ (dataset.lcmlog, replayed.tum, eval.json, eval.png)"
+
+echo "== 4/4 track a simulated 40 s room_mav flight (stereo + IMU) with hs-run"
+"$BIN/hs-run" --sim config/sim/room_mav.yaml --out "$OUT/tracking"
+echo "demo: outputs in $OUT/ (replay: dataset.lcmlog, replayed.tum, eval.json, eval.png;"
+echo "      tracking: tracking/trajectory.tum, timing.csv, eval.json, eval.png)"

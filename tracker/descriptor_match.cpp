@@ -98,10 +98,12 @@ std::vector<std::pair<int, int>> match_mutual(const cv::Mat& query_descriptors,
                                               const DescriptorMatchOptions& options) {
   const int nq = query_descriptors.rows, nt = train_descriptors.rows;
   std::vector<Best> fwd(static_cast<size_t>(nq));
-  std::vector<int> back_index(static_cast<size_t>(nt), -1), back_dist(static_cast<size_t>(nt), INT_MAX);
+  std::vector<int> back_index(static_cast<size_t>(nt), -1),
+      back_dist(static_cast<size_t>(nt), INT_MAX);
   for (int q = 0; q < nq; ++q) {
     for (int t = 0; t < nt; ++t) {
-      const int d = hamming256(query_descriptors.ptr<uint8_t>(q), train_descriptors.ptr<uint8_t>(t));
+      const int d =
+          hamming256(query_descriptors.ptr<uint8_t>(q), train_descriptors.ptr<uint8_t>(t));
       fwd[q].offer(t, d);
       if (d < back_dist[t]) {
         back_dist[t] = d;
@@ -111,7 +113,8 @@ std::vector<std::pair<int, int>> match_mutual(const cv::Mat& query_descriptors,
   }
   std::vector<std::pair<int, int>> pairs;
   for (int q = 0; q < nq; ++q)
-    if (fwd[q].passes(options) && back_index[fwd[q].index] == q) pairs.emplace_back(q, fwd[q].index);
+    if (fwd[q].passes(options) && back_index[fwd[q].index] == q)
+      pairs.emplace_back(q, fwd[q].index);
   return pairs;
 }
 

@@ -10,8 +10,8 @@ namespace hs {
 int hamming256(const uint8_t* a, const uint8_t* b);
 
 struct DescriptorMatchOptions {
-  int max_distance = 60;       // accept at most this Hamming distance
-  float ratio = 0.8f;          // best must beat the second best by this ratio
+  int max_distance = 60;  // accept at most this Hamming distance
+  float ratio = 0.8f;     // best must beat the second best by this ratio
   double search_radius_px = 15.0;
 };
 

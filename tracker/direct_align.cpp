@@ -114,63 +114,74 @@ void SparseAligner::prepare_level(const cv::Mat& ref_img, int level) {
   }
 }
 
-// Robust cost (normalised by scale^2) at `state`; fills the per-point RMS residuals (-1 where
-// not valid) and, when `normal` is given, the normal equations. Patches leaving the current
-// image or gated as outliers cost a constant, so that costs stay comparable within a level.
-double SparseAligner::evaluate(const cv::Mat& cur_img, int level, const State& state, double scale,
-                               Normal* normal, float* rms, int* num_valid) const {
+// Samples the current image for every usable reference patch at `state`.
+void SparseAligner::compute_residuals(const cv::Mat& cur_img, int level, const State& state,
+                                      Residuals* res) const {
   const PinholeRadtan& cam = *cam_;
   const std::vector<Eigen::Vector3d>& pts = *p_ref_;
   const Eigen::Matrix3d R = state.T_cur_ref.linear();
   const Eigen::Vector3d t = state.T_cur_ref.translation();
   const float c = static_cast<float>(std::exp(state.a));
   const float b = static_cast<float>(state.b);
+  res->num_valid = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    res->rms[i] = -1.f;
+    const LevelPoint& lp = level_points_[i];
+    const Eigen::Vector3d p = R * pts[i] + t;
+    if (!lp.valid || !(p.z() > 0.0)) continue;
+    const Eigen::Vector2d uv = direct::to_level(cam.project(p), level);
+    direct::Grid grid;
+    if (!direct::make_grid(cur_img, uv.x() - kFirst, uv.y() - kFirst, kPatch, &grid)) continue;
+    float* r = res->r.data() + i * kArea;
+    direct::sample_grid<kPatch>(cur_img, grid, r);
+    float ss = 0.f;
+    for (int j = 0; j < kArea; ++j) {
+      r[j] -= c * lp.q[j][2] + b;
+      ss += r[j] * r[j];
+    }
+    res->rms[i] = std::sqrt(ss / kArea);
+    ++res->num_valid;
+  }
+}
+
+// Median patch RMS residual (floored): the scale of a level's robust weights.
+double SparseAligner::median_scale(const Residuals& res) {
+  sort_buffer_.clear();
+  for (const float r : res.rms) {
+    if (r >= 0.f) sort_buffer_.push_back(r);
+  }
+  if (sort_buffer_.empty()) return options_.min_residual_scale;
+  const auto mid = sort_buffer_.begin() + sort_buffer_.size() / 2;
+  std::nth_element(sort_buffer_.begin(), mid, sort_buffer_.end());
+  return std::max(options_.min_residual_scale, static_cast<double>(*mid));
+}
+
+// Robust cost of `res` (normalised by scale^2) and the normal equations. Patches that left the
+// current image or are gated as outliers cost a constant, so that costs stay comparable within
+// a level.
+double SparseAligner::accumulate(const State& state, const Residuals& res, double scale,
+                                 Normal* normal) const {
   const double huber_k = options_.huber_k * scale;
   const float k = static_cast<float>(huber_k);
   const float gate = static_cast<float>(options_.outlier_factor * scale);
   const double penalty = kArea * huber_cost(gate, huber_k);
-
   // Unweighted normal equations of every reference patch; patches left out or down-weighted
   // here are subtracted (rare, so cheaper than summing the rest).
   Matrix8d H = level_H_;
   Vector6d gp = Vector6d::Zero();
   double ga = 0.0, gb = 0.0;
   double cost = 0.0;
-  int valid = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    rms[i] = -1.f;
+  for (size_t i = 0; i < level_points_.size(); ++i) {
     const LevelPoint& lp = level_points_[i];
     if (!lp.valid) continue;
-    const Eigen::Vector3d p = R * pts[i] + t;
-    direct::Grid grid;
-    float r[kArea];
-    bool usable = p.z() > 0.0;
-    if (usable) {
-      const Eigen::Vector2d uv = direct::to_level(cam.project(p), level);
-      usable = direct::make_grid(cur_img, uv.x() - kFirst, uv.y() - kFirst, kPatch, &grid);
-    }
-    if (usable) {
-      direct::sample_grid<kPatch>(cur_img, grid, r);
-      float ss = 0.f;
-      for (int j = 0; j < kArea; ++j) {
-        r[j] -= c * lp.q[j][2] + b;
-        ss += r[j] * r[j];
-      }
-      rms[i] = std::sqrt(ss / kArea);
-      ++valid;
-      usable = rms[i] <= gate;
-    }
-    if (!usable) {  // behind the camera, out of the image or an outlier
+    if (!(res.rms[i] >= 0.f && res.rms[i] <= gate)) {  // out of the image or an outlier
       cost += penalty;
-      if (normal) add_patch(lp.S, lp.A, -1.0, &H);
-      continue;
-    }
-    if (!normal) {
-      for (int j = 0; j < kArea; ++j) cost += huber_cost(r[j], huber_k);
+      add_patch(lp.S, lp.A, -1.0, &H);
       continue;
     }
     // Gradient in the per-pixel basis q = (gx, gy, I_ref, 1), and the Hessian part lost to
     // Huber weights below 1.
+    const float* r = res.r.data() + i * kArea;
     Eigen::Vector4f g4 = Eigen::Vector4f::Zero();
     Eigen::Matrix4f S_lost = Eigen::Matrix4f::Zero();
     bool lost = false;
@@ -194,28 +205,24 @@ double SparseAligner::evaluate(const cv::Mat& cur_img, int level, const State& s
     ga += g4[2];
     gb += g4[3];
   }
-  *num_valid = valid;
   const double inv_s2 = 1.0 / (scale * scale);
   cost *= inv_s2;
-  if (normal) {
-    // Jacobian per pixel: -D * ((gx, gy) * A, I_ref, 1) with D = diag(c, ..., c, 1).
-    Vector8d D = Vector8d::Constant(c);
-    D[7] = 1.0;
-    normal->H = inv_s2 * (D.asDiagonal() * H * D.asDiagonal());
-    normal->g << gp, ga, gb;
-    normal->g = -inv_s2 * D.cwiseProduct(normal->g);
-  }
+  // Jacobian per pixel: -D * ((gx, gy) * A, I_ref, 1) with D = diag(c, ..., c, 1).
+  Vector8d D = Vector8d::Constant(std::exp(state.a));
+  D[7] = 1.0;
+  normal->H = inv_s2 * (D.asDiagonal() * H * D.asDiagonal());
+  normal->g << gp, ga, gb;
+  normal->g = -inv_s2 * D.cwiseProduct(normal->g);
   if (prior_) {
-    const Eigen::Vector3d e = so3::log(prior_->R_cur_ref.transpose() * R);
+    const Eigen::Matrix3d R = state.T_cur_ref.linear();
+    const Eigen::Vector3d e = so3::log(Eigen::Matrix3d(prior_->R_cur_ref.transpose() * R));
     cost += 0.5 * e.dot(prior_->information * e);
-    if (normal) {
-      // R is updated as R * Exp(-dtheta): de/d(dtheta) = -Jr^-1(e).
-      const Eigen::Matrix3d J = -so3::right_jacobian_inverse(e);
-      normal->H.block<3, 3>(3, 3) += J.transpose() * prior_->information * J;
-      normal->g.segment<3>(3) += J.transpose() * (prior_->information * e);
-    }
+    // R is updated as R * Exp(-dtheta): de/d(dtheta) = -Jr^-1(e).
+    const Eigen::Matrix3d J = -so3::right_jacobian_inverse(e);
+    normal->H.block<3, 3>(3, 3) += J.transpose() * prior_->information * J;
+    normal->g.segment<3>(3) += J.transpose() * (prior_->information * e);
   }
-  if (!options_.estimate_affine && normal) {
+  if (!options_.estimate_affine) {
     // Keep a, b: decouple them with unit diagonal and zero gradient.
     normal->H.block<8, 2>(0, 6).setZero();
     normal->H.block<2, 8>(6, 0).setZero();
@@ -223,21 +230,6 @@ double SparseAligner::evaluate(const cv::Mat& cur_img, int level, const State& s
     normal->g.tail<2>().setZero();
   }
   return cost;
-}
-
-// Median patch RMS residual at `state` (floored): the scale of the robust weights of a level.
-double SparseAligner::residual_scale(const cv::Mat& cur_img, int level, const State& state) {
-  int valid = 0;
-  constexpr double kNoGate = 1e6;  // grey levels: nothing is gated
-  evaluate(cur_img, level, state, kNoGate, nullptr, rms_.data(), &valid);
-  sort_buffer_.clear();
-  for (const float r : rms_) {
-    if (r >= 0.f) sort_buffer_.push_back(r);
-  }
-  if (sort_buffer_.empty()) return options_.min_residual_scale;
-  auto mid = sort_buffer_.begin() + sort_buffer_.size() / 2;
-  std::nth_element(sort_buffer_.begin(), mid, sort_buffer_.end());
-  return std::max(options_.min_residual_scale, static_cast<double>(*mid));
 }
 
 SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyramid& cur,
@@ -259,8 +251,10 @@ SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyram
   uv0_.resize(n);
   jac0_.resize(n);
   level_points_.resize(n);
-  rms_.resize(n);
-  rms_candidate_.resize(n);
+  for (Residuals* res : {&residuals_, &candidate_residuals_}) {
+    res->r.resize(n * kArea);
+    res->rms.resize(n);
+  }
   sort_buffer_.reserve(n);
 
   // Reference pixels and d(uv)/d(xi) at level 0, with p -> p + dt + dtheta x p.
@@ -288,17 +282,17 @@ SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyram
   Normal normal, candidate_normal;
   double scale = options_.min_residual_scale;
   bool degenerate = false;
-  int num_valid = 0;
   for (int level = coarsest; level >= finest; --level) {
     const bool last = level == finest;
     prepare_level(ref.levels[level], level);
     const cv::Mat& cur_img = cur.levels[level];
-    scale = residual_scale(cur_img, level, state);
-    double cost = evaluate(cur_img, level, state, scale, &normal, rms_.data(), &num_valid);
-    result.iterations += 2;
+    compute_residuals(cur_img, level, state, &residuals_);
+    scale = median_scale(residuals_);
+    double cost = accumulate(state, residuals_, scale, &normal);
+    ++result.iterations;
     degenerate = false;
     result.converged = false;
-    if (num_valid < options_.min_points) continue;  // too few at this level: try the next
+    if (residuals_.num_valid < options_.min_points) continue;  // too few here: try the next
     const double step_scale = cam.fx / static_cast<double>(1 << level);  // pixels per radian
     // Coarse levels only need to land within the capture range of the next one.
     const double converged_px =
@@ -319,9 +313,9 @@ SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyram
       candidate.T_cur_ref = state.T_cur_ref * D_inv;
       candidate.a = state.a + delta[6];
       candidate.b = state.b + delta[7];
-      int candidate_valid = 0;
-      const double candidate_cost = evaluate(cur_img, level, candidate, scale, &candidate_normal,
-                                             rms_candidate_.data(), &candidate_valid);
+      compute_residuals(cur_img, level, candidate, &candidate_residuals_);
+      const double candidate_cost =
+          accumulate(candidate, candidate_residuals_, scale, &candidate_normal);
       ++result.iterations;
       const double step_px = step_scale * (dtheta.norm() + dt.norm() * mean_inv_depth);
       const bool accepted = candidate_cost <= cost;
@@ -329,8 +323,7 @@ SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyram
         state = candidate;
         cost = candidate_cost;
         normal = candidate_normal;
-        num_valid = candidate_valid;
-        rms_.swap(rms_candidate_);
+        std::swap(residuals_, candidate_residuals_);
         lambda = lambda < 1e-5 ? 0.0 : 0.1 * lambda;
       } else {
         lambda = lambda == 0.0 ? 1e-4 : 10.0 * lambda;
@@ -348,12 +341,13 @@ SparseAlignResult SparseAligner::align(const ImagePyramid& ref, const ImagePyram
   result.T_cur_ref = state.T_cur_ref;
   result.brightness = {state.a, state.b};
   result.residual_scale = scale;
+  const int num_valid = residuals_.num_valid;
   result.num_valid = num_valid;
   result.inlier.assign(n, 0);
-  result.residual.assign(rms_.begin(), rms_.end());
+  result.residual = residuals_.rms;
   const float gate = static_cast<float>(options_.outlier_factor * scale);
   for (size_t i = 0; i < n; ++i) {
-    result.inlier[i] = rms_[i] >= 0.f && rms_[i] <= gate;
+    result.inlier[i] = result.residual[i] >= 0.f && result.residual[i] <= gate;
     result.num_inliers += result.inlier[i];
   }
   if (num_valid > 0) result.cost /= static_cast<double>(num_valid) * kArea;

@@ -11,9 +11,13 @@
 // - Pose perturbation is on the right: T_cur_ref_true = T_cur_ref * Exp(xi), xi = (dt, dtheta)
 //   in the reference frame (translation first), with Exp(xi) = [Exp_SO3(dtheta) | dt]. The
 //   covariance refers to xi.
+// - Patches are translated, not warped, between the images (fine for inter-frame motion; use
+//   direct_patch.h to refine single points under larger viewpoint changes).
 // - Solver: inverse compositional Gauss-Newton on the pose with Jacobians precomputed on the
-//   reference patches, additive on (a, b); Huber weights; Levenberg-Marquardt damping when a
-//   step does not reduce the cost.
+//   reference patches, additive on (a, b); Levenberg-Marquardt damping when a step does not
+//   reduce the cost. Robust: Huber weights on pixel residuals with a per-level scale (median
+//   patch RMS at the start of the level), and patches whose RMS exceeds outlier_factor * scale
+//   are dropped (outliers: occlusions, moving objects, depth edges).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -60,8 +64,9 @@ struct SparseAlignResult {
   // Per input point: inlier flag, and patch RMS residual (grey levels; -1 when not valid).
   std::vector<uint8_t> inlier;
   std::vector<float> residual;
-  // Covariance of xi (inverse Gauss-Newton Hessian of the photometric cost normalised by
-  // residual_scale^2, brightness marginalised). Optimistic: patch pixels are not independent.
+  // Covariance of xi when valid (inverse Gauss-Newton Hessian of the photometric cost
+  // normalised by residual_scale^2, plus the prior; brightness marginalised). Optimistic: patch
+  // pixels are not independent.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
 
   bool valid() const { return status == SparseAlignStatus::kOk; }
@@ -96,9 +101,15 @@ class SparseAligner {
   struct State;
 
   void prepare_level(const cv::Mat& ref_img, int level);
-  double evaluate(const cv::Mat& cur_img, int level, const State& state, double scale,
-                  Normal* normal, float* rms, int* num_valid) const;
-  double residual_scale(const cv::Mat& cur_img, int level, const State& state);
+  // A linearisation point's residuals: kArea per patch, and the patch RMS (-1: not usable).
+  struct Residuals {
+    std::vector<float> r, rms;
+    int num_valid = 0;
+  };
+  void compute_residuals(const cv::Mat& cur_img, int level, const State& state,
+                         Residuals* res) const;
+  double median_scale(const Residuals& res);
+  double accumulate(const State& state, const Residuals& res, double scale, Normal* normal) const;
 
   SparseAlignOptions options_;
   const PinholeRadtan* cam_ = nullptr;
@@ -109,7 +120,8 @@ class SparseAligner {
   std::vector<LevelPoint> level_points_;           // current level's reference patches
   // Their unweighted normal equations in (xi, a, b) without the brightness factors.
   Eigen::Matrix<double, 8, 8> level_H_;
-  std::vector<float> rms_, rms_candidate_, sort_buffer_;
+  Residuals residuals_, candidate_residuals_;
+  std::vector<float> sort_buffer_;
 };
 
 }  // namespace hs

@@ -21,7 +21,7 @@ struct SparseAlignOptions {
   // A patch whose RMS residual exceeds outlier_factor * scale is an outlier: it gets no weight
   // and is not counted as an inlier.
   double outlier_factor = 3.0;
-  int min_points = 20;            // fewer valid patches at the finest level: failure
+  int min_points = 20;  // fewer valid patches: a coarse level is skipped, the finest one fails
   double min_inlier_ratio = 0.3;  // fewer inliers / valid patches at the finest level: failure
 };
 

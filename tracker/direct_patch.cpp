@@ -39,7 +39,7 @@ struct Template {
 PatchAlignStatus make_template(const ImagePyramid& ref, const Eigen::Vector2d& uv_ref,
                                const Eigen::Matrix2d& M, int level, bool clamp, Template* tpl) {
   const double footprint = std::sqrt(std::abs(M.determinant())) * static_cast<double>(1 << level);
-  if (!(footprint > 0.0)) return PatchAlignStatus::kNoTexture;
+  if (!(footprint > 0.0) || !M.allFinite()) return PatchAlignStatus::kNoTexture;
   const int ref_level =
       std::clamp(static_cast<int>(std::lround(std::log2(footprint))), 0, ref.num_levels() - 1);
   const Eigen::Matrix2d W = M * std::ldexp(1.0, level - ref_level);

@@ -7,7 +7,10 @@
 //
 // Solver: Gauss-Newton on (du, dv, gain, bias) with the reference patch gradient standing in
 // for the current one (inverse-compositional style), so the 4x4 Hessian is computed once per
-// level; every iteration samples the current patch once. Pixels: level-0, centres at integers.
+// level; every iteration samples the current patch once. Coarse levels fit only the bias (a
+// gain fitted to a misaligned patch runs away); level 0 adds the gain once the steps are small.
+// Near the border, coarse levels extend the images by their border values. Pixels: level-0,
+// centres at integers.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <vector>
@@ -21,7 +24,7 @@ namespace hs {
 enum class PatchAlignStatus {
   kOk,
   kOutOfImage,     // the patch left the image (or never was inside) at level 0
-  kNoTexture,      // the reference patch cannot constrain the position
+  kNoTexture,      // the reference patch cannot constrain the position (or singular warp)
   kNotConverged,   // iteration cap reached at level 0
   kLargeResidual,  // RMS residual above max_rms_residual
   kBadGain,        // gain outside [min_gain, max_gain]

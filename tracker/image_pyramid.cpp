@@ -16,7 +16,8 @@ cv::Mat halve(const cv::Mat& src) {
     const uint8_t* r1 = src.ptr<uint8_t>(2 * y + 1);
     uint8_t* out = dst.ptr<uint8_t>(y);
     for (int x = 0; x < w; ++x) {
-      out[x] = static_cast<uint8_t>((r0[2 * x] + r0[2 * x + 1] + r1[2 * x] + r1[2 * x + 1] + 2) >> 2);
+      out[x] =
+          static_cast<uint8_t>((r0[2 * x] + r0[2 * x + 1] + r1[2 * x] + r1[2 * x + 1] + 2) >> 2);
     }
   }
   return dst;

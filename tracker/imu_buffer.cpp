@@ -8,11 +8,16 @@ namespace hs {
 
 const char* to_string(ImuReject reason) {
   switch (reason) {
-    case ImuReject::kAccepted: return "accepted";
-    case ImuReject::kNonFinite: return "non-finite IMU value";
-    case ImuReject::kOutOfRange: return "IMU value out of range";
-    case ImuReject::kOutOfOrder: return "IMU timestamp older than the previous sample";
-    case ImuReject::kDuplicate: return "duplicate IMU timestamp";
+    case ImuReject::kAccepted:
+      return "accepted";
+    case ImuReject::kNonFinite:
+      return "non-finite IMU value";
+    case ImuReject::kOutOfRange:
+      return "IMU value out of range";
+    case ImuReject::kOutOfOrder:
+      return "IMU timestamp older than the previous sample";
+    case ImuReject::kDuplicate:
+      return "duplicate IMU timestamp";
   }
   return "?";
 }

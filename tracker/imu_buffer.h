@@ -10,9 +10,9 @@
 namespace hs {
 
 struct ImuBufferOptions {
-  double max_gyro_rad_s = 35.0;    // ~2000 deg/s: beyond any MEMS range, so a corrupt value
-  double max_accel_m_s2 = 160.0;   // ~16 g
-  int64_t keep_ns = 5'000'000'000; // history kept for preintegration and relocalisation
+  double max_gyro_rad_s = 35.0;     // ~2000 deg/s: beyond any MEMS range, so a corrupt value
+  double max_accel_m_s2 = 160.0;    // ~16 g
+  int64_t keep_ns = 5'000'000'000;  // history kept for preintegration and relocalisation
 };
 
 enum class ImuReject { kAccepted, kNonFinite, kOutOfRange, kOutOfOrder, kDuplicate };

@@ -1,5 +1,6 @@
 #include "tracker/keyframe_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -118,30 +119,62 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     }
   }
 
-  if (frame.stereo()) {
-    std::vector<Eigen::Vector2d> uv0;
-    uv0.reserve(n);
-    for (const cv::KeyPoint& kp : kf->features.keypoints) uv0.emplace_back(kp.pt.x, kp.pt.y);
-    const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
-    for (size_t i = 0; i < n; ++i) {
-      if (!matches[i].valid) continue;
-      ++st.stereo_matched;
-      kf->u_right[i] = static_cast<float>(matches[i].uv1.x());
-      kf->depth[i] = static_cast<float>(matches[i].p_c0.z());
-      if (kf->point_ids[i] >= 0) continue;
-      MapPoint p;
-      p.id = map.new_point_id();
-      p.p_w = kf->T_w_c0 * matches[i].p_c0;
-      std::memcpy(p.descriptor.data(), kf->features.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32);
-      p.ref_keyframe_id = kf->id;
-      p.ref_uv = uv0[i];
-      p.octave = kf->features.keypoints[i].octave;
-      map.add_point(p);
-      kf->point_ids[i] = p.id;
-      ++st.new_points;
-    }
-  }
+  if (frame.stereo()) add_stereo_points(frame, *kf, map, st);
   return kf;
+}
+
+void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
+                                        KeyframeBuildStats& st) const {
+  // New points only where the image has none yet (cells of new_point_cell_px holding no
+  // tracked point), strongest keypoints first, up to the per-keyframe budget: points already
+  // in the map are not duplicated and the budget goes to uncovered image regions.
+  const int cell = options_.new_point_cell_px;
+  const int cols = (frame.cam0.cols + cell - 1) / cell;
+  const int rows = (frame.cam0.rows + cell - 1) / cell;
+  std::vector<uint8_t> occupied(static_cast<size_t>(cols * rows), 0);
+  const auto cell_of = [&](const cv::Point2f& pt) {
+    const int cx = std::clamp(static_cast<int>(pt.x) / cell, 0, cols - 1);
+    const int cy = std::clamp(static_cast<int>(pt.y) / cell, 0, rows - 1);
+    return static_cast<size_t>(cy * cols + cx);
+  };
+  std::vector<int> candidates;
+  for (size_t i = 0; i < kf.point_ids.size(); ++i) {
+    if (kf.point_ids[i] >= 0)
+      occupied[cell_of(kf.features.keypoints[i].pt)] = 1;
+    else
+      candidates.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [&](int a, int b) {
+    return kf.features.keypoints[a].response > kf.features.keypoints[b].response;
+  });
+  std::vector<int> chosen;
+  std::vector<Eigen::Vector2d> uv0;
+  for (int i : candidates) {
+    const size_t c = cell_of(kf.features.keypoints[i].pt);
+    if (occupied[c]) continue;
+    occupied[c] = 1;
+    chosen.push_back(i);
+    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+    if (static_cast<int>(chosen.size()) >= options_.max_new_points_per_keyframe) break;
+  }
+  const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    if (!matches[k].valid) continue;
+    const int i = chosen[k];
+    ++st.stereo_matched;
+    kf.u_right[i] = static_cast<float>(matches[k].uv1.x());
+    kf.depth[i] = static_cast<float>(matches[k].p_c0.z());
+    MapPoint p;
+    p.id = map.new_point_id();
+    p.p_w = kf.T_w_c0 * matches[k].p_c0;
+    std::memcpy(p.descriptor.data(), kf.features.descriptors.ptr<uint8_t>(i), 32);
+    p.ref_keyframe_id = kf.id;
+    p.ref_uv = uv0[k];
+    p.octave = kf.features.keypoints[i].octave;
+    map.add_point(p);
+    kf.point_ids[i] = p.id;
+    ++st.new_points;
+  }
 }
 
 }  // namespace hs

@@ -40,6 +40,9 @@ class KeyframeBuilder {
   const OrbExtractor& orb() const { return orb_; }
 
  private:
+  void add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
+                         KeyframeBuildStats& st) const;
+
   const TrackerOptions& options_;
   OrbExtractor orb_;
   StereoMatcher stereo_;

@@ -34,11 +34,11 @@ struct MapPoint {
 
 struct Keyframe {
   int64_t id = -1;
-  NavState state;             // body state at the keyframe
-  Eigen::Isometry3d T_w_c0;   // cam0 pose
-  ImagePyramid pyramid;       // cam0; released when the keyframe leaves the window
-  cv::Mat thumbnail;          // coarsest pyramid level, kept for global relocalisation (Eq. 8)
-  OrbFeatures features;       // cam0 keypoints and descriptors
+  NavState state;                  // body state at the keyframe
+  Eigen::Isometry3d T_w_c0;        // cam0 pose
+  ImagePyramid pyramid;            // cam0; released when the keyframe leaves the window
+  cv::Mat thumbnail;               // coarsest pyramid level, kept for global relocalisation (Eq. 8)
+  OrbFeatures features;            // cam0 keypoints and descriptors
   std::vector<int64_t> point_ids;  // per keypoint: the map point it observes, -1 if none
   std::vector<float> u_right;      // per keypoint: cam1 column, -1 if none
   std::vector<float> depth;        // per keypoint: depth in cam0, -1 if none
@@ -50,9 +50,9 @@ struct Keyframe {
 };
 
 struct LocalMapOptions {
-  int max_keyframes = 10;          // window of keyframes whose points are tracked
+  int max_keyframes = 10;            // window of keyframes whose points are tracked
   int max_database_keyframes = 300;  // older keyframes kept for relocalisation
-  int max_missed = 10;             // drop a point expected but not tracked this many frames
+  int max_missed = 10;               // drop a point expected but not tracked this many frames
 };
 
 class LocalMap {

@@ -8,8 +8,8 @@ OrbExtractor::OrbExtractor(const OrbOptions& options) : options_(options) {
   // Over-detect, then keep the strongest per grid cell: cv::ORB alone clusters its budget on
   // the most textured region.
   orb_ = cv::ORB::create(options.num_features * 3, options.scale_factor, options.num_levels,
-                         /*edgeThreshold=*/19, /*firstLevel=*/0, /*WTA_K=*/2,
-                         cv::ORB::FAST_SCORE, /*patchSize=*/31, options.fast_threshold);
+                         /*edgeThreshold=*/19, /*firstLevel=*/0, /*WTA_K=*/2, cv::ORB::FAST_SCORE,
+                         /*patchSize=*/31, options.fast_threshold);
 }
 
 OrbFeatures OrbExtractor::extract(const cv::Mat& image) const {

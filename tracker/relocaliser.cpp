@@ -37,11 +37,12 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
     return r;
   }
   cv::Mat kf_desc(static_cast<int>(rows.size()), 32, CV_8U);
-  for (size_t k = 0; k < rows.size(); ++k) kf.features.descriptors.row(rows[k]).copyTo(kf_desc.row(static_cast<int>(k)));
+  for (size_t k = 0; k < rows.size(); ++k)
+    kf.features.descriptors.row(rows[k]).copyTo(kf_desc.row(static_cast<int>(k)));
   const auto pairs = match_mutual(current.descriptors, kf_desc, options_.matching);
   if (pairs.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
-    r.message = std::to_string(pairs.size()) + " descriptor matches with keyframe " +
-                std::to_string(kf.id);
+    r.message =
+        std::to_string(pairs.size()) + " descriptor matches with keyframe " + std::to_string(kf.id);
     return r;
   }
 
@@ -58,9 +59,9 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
   cv::Mat rvec, tvec;
   std::vector<int> ransac_inliers;
   const double thresh = 3.0 / cam.fx;  // 3 px in normalised coordinates
-  const bool solved = cv::solvePnPRansac(obj, img, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec,
-                                         tvec, false, 200, static_cast<float>(thresh), 0.99,
-                                         ransac_inliers, cv::SOLVEPNP_EPNP);
+  const bool solved =
+      cv::solvePnPRansac(obj, img, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec, tvec, false, 200,
+                         static_cast<float>(thresh), 0.99, ransac_inliers, cv::SOLVEPNP_EPNP);
   if (!solved || ransac_inliers.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
     r.message = "PnP found " + std::to_string(ransac_inliers.size()) + " inliers";
     return r;
@@ -91,7 +92,8 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
   }
   const PoseOptResult opt = optimizer_.optimise_pose(start, obs);
   if (!opt.valid() || opt.num_inliers < options_.reloc_min_inliers) {
-    r.message = std::string("pose refinement: ") + (opt.reason.empty() ? "too few inliers" : opt.reason);
+    r.message =
+        std::string("pose refinement: ") + (opt.reason.empty() ? "too few inliers" : opt.reason);
     return r;
   }
   r.ok = true;

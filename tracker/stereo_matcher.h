@@ -11,11 +11,11 @@
 namespace hs {
 
 struct StereoMatchOptions {
-  int window = 15;                 // optical-flow window, pixels
+  int window = 15;  // optical-flow window, pixels
   int pyramid_levels = 3;
-  double init_depth_m = 4.0;       // depth used to predict the right pixel
-  double max_epipolar_px = 1.0;    // reprojection error allowed in each camera
-  double max_backflow_px = 0.5;    // left -> right -> left round trip
+  double init_depth_m = 4.0;     // depth used to predict the right pixel
+  double max_epipolar_px = 1.0;  // reprojection error allowed in each camera
+  double max_backflow_px = 0.5;  // left -> right -> left round trip
   double min_depth_m = 0.15;
   double max_depth_m = 40.0;
 };

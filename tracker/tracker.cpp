@@ -13,21 +13,30 @@ namespace hs {
 
 const char* to_string(TrackState state) {
   switch (state) {
-    case TrackState::kInitialising: return "INITIALISING";
-    case TrackState::kTracking: return "TRACKING";
-    case TrackState::kLost: return "LOST";
-    case TrackState::kRelocalised: return "RELOCALISED";
+    case TrackState::kInitialising:
+      return "INITIALISING";
+    case TrackState::kTracking:
+      return "TRACKING";
+    case TrackState::kLost:
+      return "LOST";
+    case TrackState::kRelocalised:
+      return "RELOCALISED";
   }
   return "?";
 }
 
 const char* to_string(TrackMethod method) {
   switch (method) {
-    case TrackMethod::kNone: return "none";
-    case TrackMethod::kDirect: return "direct";
-    case TrackMethod::kDescriptors: return "descriptors";
-    case TrackMethod::kRelocalisedReference: return "relocalised (reference keyframe)";
-    case TrackMethod::kRelocalisedGlobal: return "relocalised (global)";
+    case TrackMethod::kNone:
+      return "none";
+    case TrackMethod::kDirect:
+      return "direct";
+    case TrackMethod::kDescriptors:
+      return "descriptors";
+    case TrackMethod::kRelocalisedReference:
+      return "relocalised (reference keyframe)";
+    case TrackMethod::kRelocalisedGlobal:
+      return "relocalised (global)";
   }
   return "?";
 }
@@ -37,8 +46,7 @@ namespace {
 // Wall time of consecutive pipeline stages, in the order they ran.
 class StageTimer {
  public:
-  explicit StageTimer(FrameResult& result)
-      : result_(result), start_(Clock::now()), last_(start_) {}
+  explicit StageTimer(FrameResult& result) : result_(result), start_(Clock::now()), last_(start_) {}
   void stage(const char* name) {
     const auto now = Clock::now();
     result_.stage_ms.emplace_back(name, ms(last_, now));
@@ -122,8 +130,8 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   }
   StereoFrame frame = frame_in;
   if (options_.stereo) {
-    const bool bad_right = !frame.cam1.empty() && (frame.cam1.size() != frame.cam0.size() ||
-                                                   frame.cam1.type() != CV_8UC1);
+    const bool bad_right = !frame.cam1.empty() &&
+                           (frame.cam1.size() != frame.cam0.size() || frame.cam1.type() != CV_8UC1);
     if (frame.cam1.empty() || bad_right) {
       ++counters_.missing_right_image;
       r.message = bad_right ? "cam1 image has the wrong size or type: tracked with cam0 only"
@@ -159,9 +167,9 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
     const std::optional<Eigen::Isometry3d> aligned = align_to_last(pyr, T_w_c_pred);
     timer.stage("direct_align");
     // Without the photometric refinement the IMU prediction is the guess: search wider.
-    corr = direct_correspondences(pyr, aligned ? *aligned : T_w_c_pred,
-                                  aligned ? options_.patch_search_radius_px
-                                          : 3.0 * options_.patch_search_radius_px);
+    corr = direct_correspondences(
+        pyr, aligned ? *aligned : T_w_c_pred,
+        aligned ? options_.patch_search_radius_px : 3.0 * options_.patch_search_radius_px);
     timer.stage("patch_align");
     method = TrackMethod::kDirect;
   }
@@ -213,8 +221,8 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
     // A relocalisation that moves the estimate far from the IMU prediction is a stated jump.
     if (jump > 0.1) {
       ++map_id_;
-      r.message += "; pose jumped " + std::to_string(jump) + " m: map id now " +
-                   std::to_string(map_id_);
+      r.message +=
+          "; pose jumped " + std::to_string(jump) + " m: map id now " + std::to_string(map_id_);
     }
     state_ = TrackState::kRelocalised;
     lost_since_ns_ = -1;
@@ -267,9 +275,8 @@ std::optional<Eigen::Isometry3d> Tracker::align_to_last(const ImagePyramid& pyr,
   for (const TrackedObservation& t : last_->tracked)
     if (const MapPoint* p = map_.point(t.point_id)) p_ref.push_back(T_c_w_last * p->p_w);
   if (p_ref.size() < static_cast<size_t>(options_.direct.sparse.min_points)) return std::nullopt;
-  const SparseAlignResult res =
-      aligner_.align(last_->pyramid, pyr, options_.calib.cam0.intrinsics, p_ref,
-                     T_w_c_pred.inverse() * T_w_c_last);
+  const SparseAlignResult res = aligner_.align(last_->pyramid, pyr, options_.calib.cam0.intrinsics,
+                                               p_ref, T_w_c_pred.inverse() * T_w_c_last);
   if (!res.valid()) return std::nullopt;
   return T_w_c_last * res.T_cur_ref.inverse();
 }
@@ -303,16 +310,18 @@ Tracker::Correspondences Tracker::direct_correspondences(const ImagePyramid& pyr
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.priority != b.priority ? a.priority > b.priority : a.point->id < b.point->id;
   });
+  // Round k gives each cell its k-th point, until the budget is spent.
   std::vector<int> per_cell(static_cast<size_t>(cols * ((cam.height + grid - 1) / grid)), 0);
+  std::vector<uint8_t> taken(candidates.size(), 0);
   std::vector<const Candidate*> selected;
-  for (int round = 1; selected.size() < static_cast<size_t>(options_.max_points_per_frame) &&
-                      round <= 4;
-       ++round)
-    for (const Candidate& c : candidates) {
-      if (per_cell[c.cell] != round - 1) continue;
+  const size_t budget = static_cast<size_t>(options_.max_points_per_frame);
+  for (int round = 0; selected.size() < budget && selected.size() < candidates.size(); ++round)
+    for (size_t i = 0; i < candidates.size() && selected.size() < budget; ++i) {
+      const Candidate& c = candidates[i];
+      if (taken[i] || per_cell[c.cell] != round) continue;
       ++per_cell[c.cell];
+      taken[i] = 1;
       selected.push_back(&c);
-      if (selected.size() == static_cast<size_t>(options_.max_points_per_frame)) break;
     }
 
   Correspondences out;
@@ -417,11 +426,9 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
     kf->imu = imu_.window(last_keyframe_t_ns_, frame.t_ns);
     // The new points are tracked from the next frame on.
     for (size_t i = 0; i < kf->point_ids.size(); ++i)
-      if (kf->point_ids[i] >= 0 && kf->depth[i] > 0 && !std::any_of(tracked.begin(), tracked.end(),
-                                                                  [&](const TrackedObservation& t) {
-                                                                    return t.point_id ==
-                                                                           kf->point_ids[i];
-                                                                  }))
+      if (kf->point_ids[i] >= 0 && kf->depth[i] > 0 &&
+          !std::any_of(tracked.begin(), tracked.end(),
+                       [&](const TrackedObservation& t) { return t.point_id == kf->point_ids[i]; }))
         tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
                                                              kf->features.keypoints[i].pt.y)});
     map_.add_keyframe(kf);
@@ -440,8 +447,8 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
   r.nav = nav;
   r.tracked_points = static_cast<int>(tracked.size());
   if (opt) r.pose_covariance = opt->pose_covariance;
-  r.quality = static_cast<float>(std::min(
-      1.0, static_cast<double>(r.tracked_points) / (2.0 * options_.keyframe.min_tracked)));
+  r.quality = static_cast<float>(
+      std::min(1.0, static_cast<double>(r.tracked_points) / (2.0 * options_.keyframe.min_tracked)));
 
   LastFrame lf;
   lf.t_ns = frame.t_ns;
@@ -463,11 +470,15 @@ bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, Fram
   }
   const std::vector<ImuSample> window =
       imu_.window(frame.t_ns - options_.static_init_window_ns, frame.t_ns);
-  const StaticInitResult gravity = initialise_from_static(window, options_.imu);
-  if (gravity.samples_used < 10) {
-    r.message = "initialising: waiting for IMU samples";
+  // Gravity needs a full window of IMU history (a static one gives the gyro bias too).
+  const int64_t span = window.empty() ? 0 : frame.t_ns - window.front().t_ns;
+  if (span < options_.static_init_window_ns) {
+    r.message = "initialising: collecting IMU for the gravity direction (" +
+                std::to_string(span / 1000000) + " of " +
+                std::to_string(options_.static_init_window_ns / 1000000) + " ms)";
     return false;
   }
+  const StaticInitResult gravity = initialise_from_static(window, options_.imu);
   NavState nav;
   nav.t_ns = frame.t_ns;
   nav.q_w_b = gravity.q_w_b;

@@ -25,11 +25,11 @@ namespace hs {
 struct TrackerCounters {
   int64_t frames = 0;
   int64_t keyframes = 0;
-  int64_t rejected_out_of_order = 0;   // frame timestamp not after the previous frame's
-  int64_t rejected_bad_image = 0;      // wrong size / type, or empty
-  int64_t rejected_clock_offset = 0;   // frame too far from the IMU clock
-  int64_t missing_right_image = 0;     // stereo rig, cam1 absent (tracked with cam0 only)
-  int64_t imu_gaps = 0;                // frame intervals with an IMU gap (bridged)
+  int64_t rejected_out_of_order = 0;  // frame timestamp not after the previous frame's
+  int64_t rejected_bad_image = 0;     // wrong size / type, or empty
+  int64_t rejected_clock_offset = 0;  // frame too far from the IMU clock
+  int64_t missing_right_image = 0;    // stereo rig, cam1 absent (tracked with cam0 only)
+  int64_t imu_gaps = 0;               // frame intervals with an IMU gap (bridged)
   int64_t lost_frames = 0;
   int64_t relocalisations = 0;
   int64_t reinitialisations = 0;

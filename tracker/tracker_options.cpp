@@ -29,7 +29,8 @@ ImuNoise read_imu_yaml(const std::string& path) {
     } catch (const YAML::Exception&) {
       throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be a number");
     }
-    if (!(out > 0)) throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be > 0");
+    if (!(out > 0))
+      throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be > 0");
   };
   get("gyroscope_noise_density", n.gyro_noise_density);
   get("gyroscope_random_walk", n.gyro_random_walk);
@@ -87,7 +88,8 @@ void read_keyframe(ConfigSection& s, KeyframePolicyOptions& o) {
   double max_s = static_cast<double>(o.max_interval_ns) * 1e-9;
   s.read("min_interval_s", min_s);
   s.read("max_interval_s", max_s);
-  if (min_s < 0 || max_s <= min_s) s.fail("max_interval_s", "needs 0 <= min_interval_s < max_interval_s");
+  if (min_s < 0 || max_s <= min_s)
+    s.fail("max_interval_s", "needs 0 <= min_interval_s < max_interval_s");
   o.min_interval_ns = static_cast<int64_t>(min_s * 1e9);
   o.max_interval_ns = static_cast<int64_t>(max_s * 1e9);
 }
@@ -110,7 +112,8 @@ TrackerOptions load_tracker_options(const std::string& path) {
     o.stereo = rig == "stereo";
     std::string mode = o.descriptors == DescriptorMode::kHybrid ? "hybrid" : "every-frame";
     s.read("descriptors", mode);
-    if (mode != "hybrid" && mode != "every-frame") s.fail("descriptors", "must be 'hybrid' or 'every-frame'");
+    if (mode != "hybrid" && mode != "every-frame")
+      s.fail("descriptors", "must be 'hybrid' or 'every-frame'");
     o.descriptors = mode == "hybrid" ? DescriptorMode::kHybrid : DescriptorMode::kEveryFrame;
     s.read("pyramid_levels", o.pyramid_levels);
     if (o.pyramid_levels < 1 || o.pyramid_levels > 6) s.fail("pyramid_levels", "must be 1..6");
@@ -118,6 +121,10 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("point_grid_px", o.point_grid_px);
     s.read("patch_search_radius_px", o.patch_search_radius_px);
     s.read("init_min_points", o.init_min_points);
+    s.read("max_new_points_per_keyframe", o.max_new_points_per_keyframe);
+    s.read("new_point_cell_px", o.new_point_cell_px);
+    if (o.new_point_cell_px < 4 || o.max_new_points_per_keyframe < 1)
+      s.fail("new_point_cell_px", "new point options out of range");
     s.read("reloc_min_inliers", o.reloc_min_inliers);
     double reinit_s = static_cast<double>(o.reinit_after_lost_ns) * 1e-9;
     s.read("reinit_after_lost_s", reinit_s);

@@ -35,13 +35,15 @@ struct TrackerOptions {
   DescriptorMatchOptions matching;
   DescriptorMode descriptors = DescriptorMode::kHybrid;
 
-  int pyramid_levels = 4;           // the paper's four-layer pyramid
-  int max_points_per_frame = 250;   // map points tracked per frame (spread over a grid)
-  int point_grid_px = 40;           // one point per cell first, then fill
+  int pyramid_levels = 4;               // the paper's four-layer pyramid
+  int max_points_per_frame = 250;       // map points tracked per frame (spread over a grid)
+  int point_grid_px = 40;               // one point per cell first, then fill
   double patch_search_radius_px = 4.0;  // after direct alignment
-  int init_min_points = 60;         // stereo points needed to start a map
+  int init_min_points = 60;             // stereo points needed to start a map
+  int max_new_points_per_keyframe = 200;
+  int new_point_cell_px = 24;  // new points only in cells without a tracked point
   int reloc_min_inliers = 25;
-  int64_t reinit_after_lost_ns = 500'000'000;  // then start a new local map in place
+  int64_t reinit_after_lost_ns = 500'000'000;      // then start a new local map in place
   int64_t max_camera_imu_offset_ns = 200'000'000;  // frame vs newest IMU sample
   int64_t static_init_window_ns = 1'000'000'000;
 

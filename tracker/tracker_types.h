@@ -33,9 +33,9 @@ struct FrameResult {
   bool accepted = false;  // false: the frame was rejected as bad input (see message)
   TrackState state = TrackState::kInitialising;
   TrackMethod method = TrackMethod::kNone;
-  NavState nav;                          // body state; valid when accepted and not initialising
+  NavState nav;  // body state; valid when accepted and not initialising
   Eigen::Matrix<double, 6, 6> pose_covariance = Eigen::Matrix<double, 6, 6>::Zero();
-  float quality = 0.0f;                  // 0..1
+  float quality = 0.0f;  // 0..1
   int32_t map_id = 0;
   bool is_keyframe = false;
   std::shared_ptr<const Keyframe> keyframe;  // the new keyframe, when is_keyframe

@@ -35,7 +35,8 @@ void commit_temp_file(const std::string& temp_path, const std::string& path) {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
   out_.open(temp_, std::ios::binary);
-  if (!out_) throw InputError(path_, "cannot create output file: " + std::string(std::strerror(errno)));
+  if (!out_)
+    throw InputError(path_, "cannot create output file: " + std::string(std::strerror(errno)));
 }
 
 AtomicFile::~AtomicFile() {

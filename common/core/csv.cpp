@@ -48,9 +48,9 @@ bool CsvReader::next(CsvRow& row) {
 
 void CsvReader::require_fields(const CsvRow& row, size_t n) const {
   if (row.fields.size() < n)
-    throw InputError(path_, row.line,
-                     "expected " + std::to_string(n) + " fields, found " +
-                         std::to_string(row.fields.size()));
+    throw InputError(
+        path_, row.line,
+        "expected " + std::to_string(n) + " fields, found " + std::to_string(row.fields.size()));
 }
 
 int64_t CsvReader::int64_at(const CsvRow& row, size_t i) const {

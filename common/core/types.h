@@ -23,7 +23,11 @@ struct NavState {
 };
 
 constexpr double kNsPerSec = 1e9;
-inline double ns_to_s(int64_t t_ns) { return static_cast<double>(t_ns) * 1e-9; }
-inline int64_t s_to_ns(double t_s) { return static_cast<int64_t>(t_s * 1e9 + (t_s >= 0 ? 0.5 : -0.5)); }
+inline double ns_to_s(int64_t t_ns) {
+  return static_cast<double>(t_ns) * 1e-9;
+}
+inline int64_t s_to_ns(double t_s) {
+  return static_cast<int64_t>(t_s * 1e9 + (t_s >= 0 ? 0.5 : -0.5));
+}
 
 }  // namespace hs

@@ -1,11 +1,8 @@
 #include "common/eval/extrinsics.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
+#include "common/calib/camera_calib.h"
 #include "common/core/error.h"
 
 namespace hs {
@@ -32,22 +29,7 @@ Eigen::Isometry3d T_b_c_from_values(const std::vector<double>& values, const std
 }
 
 Eigen::Isometry3d load_T_b_c_yaml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open file");
-  std::stringstream text;
-  std::string line;
-  while (std::getline(in, line))  // blank the directive yaml-cpp rejects, keeping line numbers
-    text << (line.rfind("%YAML", 0) == 0 ? "" : line) << '\n';
-  std::vector<double> values;
-  try {
-    const YAML::Node data = YAML::Load(text.str())["T_BS"]["data"];
-    if (!data || !data.IsSequence()) throw InputError(path, "no T_BS.data sequence");
-    for (const YAML::Node& v : data) values.push_back(v.as<double>());
-  } catch (const YAML::Exception& e) {
-    if (e.mark.is_null()) throw InputError(path, std::string("YAML: ") + e.msg);
-    throw InputError(path, e.mark.line + 1, std::string("YAML: ") + e.msg);
-  }
-  return T_b_c_from_values(values, path);
+  return read_camera_yaml(path).T_b_c;
 }
 
 Eigen::Isometry3d parse_T_b_c(const std::vector<std::string>& args) {

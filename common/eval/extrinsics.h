@@ -11,7 +11,7 @@ namespace hs {
 // (orthonormal rotation, last row 0 0 0 1). `source` names where they came from.
 Eigen::Isometry3d T_b_c_from_values(const std::vector<double>& values, const std::string& source);
 
-// Reads T_BS.data from a EuRoC sensor.yaml (the "%YAML:1.0" first line is tolerated).
+// T_BS of a EuRoC camera sensor.yaml (read by common/calib).
 Eigen::Isometry3d load_T_b_c_yaml(const std::string& path);
 
 // Command-line form: one argument is a sensor.yaml path, sixteen are the matrix entries.

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/sim/render_rng.h"
+#include "common/sim/render_simd.h"
 
 namespace hs::sim {
 namespace {
@@ -23,7 +24,7 @@ Photometric::Photometric(const PinholeRadtan& camera, const PhotometricOptions& 
       cx_(static_cast<float>(camera.cx)),
       cy_(static_cast<float>(camera.cy)) {
   Rng rng(0x0A15E);
-  noise_.resize((size_t{1} << kNoiseTableBits) + width_ + 1);
+  noise_.resize((size_t{1} << kNoiseTableBits) + width_ + 4);          // whole vectors past the end
   for (size_t i = 0; i + 1 < noise_.size(); i += 2) {                  // Box-Muller pairs
     const double r = std::sqrt(-2.0 * std::log(1.0 - rng.uniform()));  // 1 - u avoids log(0)
     const double a = 6.283185307179586 * rng.uniform();
@@ -41,31 +42,38 @@ float Photometric::vignetting(int u, int v) const {
 }
 
 void Photometric::apply(float* radiance, double gain, uint64_t noise_seed, cv::Mat* image) const {
-  const int width = width_;
+  using simd::v4f;
   const float g = static_cast<float>(gain);
   const float read2 = options_.read_noise_dn * options_.read_noise_dn;
   const float shot = options_.shot_noise_gain;
   const float strength = options_.vignetting ? options_.vignetting_strength : 0.0f;
-  const float inv_fx = inv_fx_, cx = cx_;
+  const v4f lane = {0.0f, 1.0f, 2.0f, 3.0f};
   const uint64_t mask = (uint64_t{1} << kNoiseTableBits) - 1;
   for (int v = 0; v < height_; ++v) {
-    float* row = radiance + static_cast<size_t>(v) * width;
+    float* row = radiance + static_cast<size_t>(v) * width_;
+    const float* noise =
+        options_.noise ? noise_.data() + (splitmix64(noise_seed * 1000003u + v) & mask) : nullptr;
     const float dy = (static_cast<float>(v) - cy_) * inv_fy_;
     const float r2_row = 1.0f + dy * dy;
-    // Same formula as vignetting(), inlined so the loops vectorise.
-    const auto scale = [&](int u) {
-      const float dx = (static_cast<float>(u) - cx) * inv_fx;
-      const float cos2 = 1.0f / (r2_row + dx * dx);
-      return g * (1.0f - strength + strength * cos2 * cos2);
-    };
-    if (options_.noise) {
-      const float* n = noise_.data() + (splitmix64(noise_seed * 1000003u + v) & mask);
-      for (int u = 0; u < width; ++u) {
-        const float i = std::max(row[u] * scale(u), 0.0f);
-        row[u] = i + std::sqrt(read2 + shot * i) * n[u];
+    // Pixels u .. u + 3 at p (whole vectors; the row's last partial vector goes via `tail`).
+    const auto apply4 = [&](int u, float* p) {
+      const v4f dx = (static_cast<float>(u) + lane - cx_) * inv_fx_;
+      const v4f cos2 = 1.0f / (r2_row + dx * dx);  // same formula as vignetting()
+      const v4f i = simd::load(p) * (g * (1.0f - strength + strength * cos2 * cos2));
+      if (noise == nullptr) {
+        simd::store(p, i);
+        return;
       }
-    } else {
-      for (int u = 0; u < width; ++u) row[u] *= scale(u);
+      const v4f clipped = simd::max(i, v4f{});
+      simd::store(p, clipped + simd::sqrt(read2 + shot * clipped) * simd::load(noise + u));
+    };
+    int u = 0;
+    for (; u + 4 <= width_; u += 4) apply4(u, row + u);
+    if (u < width_) {
+      alignas(16) float tail[4] = {};
+      std::copy(row + u, row + width_, tail);
+      apply4(u, tail);
+      std::copy(tail, tail + (width_ - u), row + u);
     }
   }
   // Rounds and saturates (OpenCV's conversion is vectorised for the CPU at run time).

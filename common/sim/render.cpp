@@ -80,10 +80,13 @@ class Renderer::Impl {
   // footprint scales.
   void shade_run(const QuadCoeffs& q, const float* xs, const float* ys, const float* scales, int n,
                  float* out) const;
-  float shade(const QuadCoeffs& q, float x, float y, float pixel_scale) const;
   // shade_run for n <= kTile consecutive pixels of a tile row from pixel-table index k.
   void shade_span(const QuadCoeffs& q, size_t k, int n, float* out) const;
-  float shade_edge_pixel(const PoseSetup& setup, int tile, int px, int py) const;
+  // Finds which quads cover how much of edge pixel (px, py) and queues their shading, to be
+  // added to *pixel; returns the background's share.
+  float cover_edge_pixel(const PoseSetup& setup, int tile, int px, int py, float* pixel);
+  // Shades the queued edge samples, batched per quad, and adds them to their pixels.
+  void shade_edge_samples(const PoseSetup& setup);
   // Image motion (pixels) of the tile between exposure start and end.
   double tile_motion(int tile, const Eigen::Isometry3d& T_s_c, const Eigen::Isometry3d& T_e_c,
                      const int32_t* ids, const float* best_w) const;
@@ -93,6 +96,14 @@ class Renderer::Impl {
   const CameraRays rays_;
   // Bilinear weights of the coverage samples between a pixel's corner rays.
   float sub_w00_[kSub], sub_w01_[kSub], sub_w10_[kSub], sub_w11_[kSub];
+
+  // A quad's share of an edge pixel, waiting to be shaded.
+  struct EdgeSample {
+    int32_t quad;
+    float x, y, pixel_scale, weight;
+    float* pixel;
+  };
+  std::vector<EdgeSample> edge_samples_;
 
   PoseSetup main_setup_;
   std::vector<PoseSetup> blur_setups_;  // (samples, index) -> n(n-1)/2 + index
@@ -153,17 +164,10 @@ void Renderer::Impl::shade_run(const QuadCoeffs& q, const float* xs, const float
   q.texture->sample(us, vs, n, lod, q.brightness, out);
 }
 
-float Renderer::Impl::shade(const QuadCoeffs& q, float x, float y, float pixel_scale) const {
-  alignas(16) const float xs[4] = {x, x, x, x}, ys[4] = {y, y, y, y},
-                          ks[4] = {pixel_scale, pixel_scale, pixel_scale, pixel_scale};
-  alignas(16) float out[4];
-  shade_run(q, xs, ys, ks, 4, out);
-  return out[0];
-}
-
-float Renderer::Impl::shade_edge_pixel(const PoseSetup& setup, int tile, int px, int py) const {
-  // 16 coverage samples with rays interpolated between the pixel's corner rays; each quad
-  // seen is shaded once at the mean ray of its samples and weighted by its coverage.
+float Renderer::Impl::cover_edge_pixel(const PoseSetup& setup, int tile, int px, int py,
+                                       float* pixel) {
+  // 16 coverage samples with rays interpolated between the pixel's corner rays. Each quad seen
+  // is shaded later (batched per quad) at the mean ray of its samples, weighted by coverage.
   const size_t g = static_cast<size_t>(tile) * kGridPad + static_cast<size_t>(py * kGrid + px);
   const std::vector<float>& cx = rays_.corner_x;
   const std::vector<float>& cy = rays_.corner_y;
@@ -176,10 +180,10 @@ float Renderer::Impl::shade_edge_pixel(const PoseSetup& setup, int tile, int px,
             sub_w11_[i] * cy[g + kGrid + 1];
   }
   detail::nearest_quads(setup, tile, sx, sy, kSub, sid, bw);
-  float total = 0.0f;
-  bool done[kSub] = {};
   const float scale = rays_.pixel_scale[static_cast<size_t>(tile) * kTilePixels +
                                         static_cast<size_t>(py * kTile + px)];
+  bool done[kSub] = {};
+  float background = 0.0f;
   for (int i = 0; i < kSub; ++i) {
     if (done[i]) continue;
     int count = 0;
@@ -191,12 +195,42 @@ float Renderer::Impl::shade_edge_pixel(const PoseSetup& setup, int tile, int px,
       mx += sx[j];
       my += sy[j];
     }
-    const float value =
-        sid[i] < 0 ? options.background
-                   : shade(setup.quads[static_cast<size_t>(sid[i])], mx / count, my / count, scale);
-    total += value * static_cast<float>(count);
+    const float weight = static_cast<float>(count) / kSub;
+    if (sid[i] < 0) {
+      background += weight * options.background;
+    } else {
+      edge_samples_.push_back({sid[i], mx / count, my / count, scale, weight, pixel});
+    }
   }
-  return total * (1.0f / kSub);
+  return background;
+}
+
+void Renderer::Impl::shade_edge_samples(const PoseSetup& setup) {
+  std::sort(edge_samples_.begin(), edge_samples_.end(),
+            [](const EdgeSample& a, const EdgeSample& b) { return a.quad < b.quad; });
+  alignas(16) float xs[kTile], ys[kTile], ks[kTile], values[kTile];
+  for (size_t i = 0; i < edge_samples_.size();) {
+    // Up to kTile samples of one quad, padded to whole vectors by repeating the last one.
+    size_t end = i + 1;
+    while (end < edge_samples_.size() && end - i < kTile &&
+           edge_samples_[end].quad == edge_samples_[i].quad) {
+      ++end;
+    }
+    const int n = static_cast<int>(end - i), padded = (n + 3) / 4 * 4;
+    for (int j = 0; j < padded; ++j) {
+      const EdgeSample& e = edge_samples_[i + static_cast<size_t>(std::min(j, n - 1))];
+      xs[j] = e.x;
+      ys[j] = e.y;
+      ks[j] = e.pixel_scale;
+    }
+    shade_run(setup.quads[static_cast<size_t>(edge_samples_[i].quad)], xs, ys, ks, padded, values);
+    for (int j = 0; j < n; ++j) {
+      const EdgeSample& e = edge_samples_[i + static_cast<size_t>(j)];
+      *e.pixel += e.weight * values[j];
+    }
+    i = end;
+  }
+  edge_samples_.clear();
 }
 
 int Renderer::Impl::shade_tile(const PoseSetup& setup, int tile, const int32_t* ids, float* out,
@@ -223,7 +257,7 @@ int Renderer::Impl::shade_tile(const PoseSetup& setup, int tile, const int32_t* 
       int end = px + 1;
       while (end < cols && seen[end] == id) ++end;
       if (id == kEdge) {
-        for (int p = px; p < end; ++p) row[p] = shade_edge_pixel(setup, tile, p, py);
+        for (int p = px; p < end; ++p) row[p] = cover_edge_pixel(setup, tile, p, py, row + p);
         edge_pixels += end - px;
       } else if (id < 0) {
         std::fill(row + px, row + end, options.background);
@@ -234,6 +268,7 @@ int Renderer::Impl::shade_tile(const PoseSetup& setup, int tile, const int32_t* 
       px = end;
     }
   }
+  shade_edge_samples(setup);
   return edge_pixels;
 }
 

@@ -1,8 +1,14 @@
 #pragma once
 // Portable 4-wide float/int vectors for the renderer's inner loops, via the GCC/Clang vector
 // extension: SSE2 on x86-64, NEON on ARM, no -march flags needed.
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
 
 namespace hs::sim::simd {
 
@@ -36,6 +42,16 @@ inline v4i floor_to_int(const v4f& x) {
 }
 inline v4f max(const v4f& a, const v4f& b) {
   return a > b ? a : b;
+}
+// Square root: the baseline SIMD instruction of x86-64 (SSE2) or AArch64 (NEON).
+inline v4f sqrt(const v4f& a) {
+#if defined(__SSE2__)
+  return reinterpret_cast<v4f>(_mm_sqrt_ps(reinterpret_cast<__m128>(a)));
+#elif defined(__aarch64__)
+  return reinterpret_cast<v4f>(vsqrtq_f32(reinterpret_cast<float32x4_t>(a)));
+#else
+  return v4f{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
+#endif
 }
 inline float horizontal_max(const v4f& v) {
   const float a = v[0] > v[1] ? v[0] : v[1];

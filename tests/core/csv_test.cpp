@@ -60,7 +60,9 @@ TEST(Csv, MalformedFieldNamesFileAndLine) {
   std::remove(p.c_str());
 }
 
-TEST(Csv, MissingFileIsAnInputError) { EXPECT_THROW(CsvReader("/nonexistent/x.csv"), InputError); }
+TEST(Csv, MissingFileIsAnInputError) {
+  EXPECT_THROW(CsvReader("/nonexistent/x.csv"), InputError);
+}
 
 }  // namespace
 }  // namespace hs

@@ -5,7 +5,9 @@
 namespace hs {
 namespace {
 
-Eigen::Vector2d normalised(const Eigen::Vector3d& p) { return p.head<2>() / p.z(); }
+Eigen::Vector2d normalised(const Eigen::Vector3d& p) {
+  return p.head<2>() / p.z();
+}
 
 TEST(Triangulation, RecoversPointFromStereoPair) {
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();

@@ -22,10 +22,10 @@ struct TexturedRect {
   Eigen::Vector3d normal;  // unit; the plane is normal . p = offset
   double offset = 0.0;
   Eigen::Vector3d axis_u, axis_v;  // texture axes in the plane (unit)
-  Eigen::Vector2d centre{0, 0};    // in (axis_u, axis_v) coordinates
+  uint64_t seed = 0;
+  Eigen::Vector2d centre{0, 0};  // extent in (axis_u, axis_v) coordinates: unbounded by default
   Eigen::Vector2d half_size{std::numeric_limits<double>::infinity(),
                             std::numeric_limits<double>::infinity()};
-  uint64_t seed = 0;
 };
 
 // Smooth value noise in about [-1, 1]: random lattice values, quintic interpolation.
@@ -61,13 +61,13 @@ class RoomScene {
   explicit RoomScene(const PinholeRadtan& cam) : cam_(cam) {
     const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
                           z = Eigen::Vector3d::UnitZ();
-    rects_ = {{-z, -4.0, x, y, {0, 0}, kInfinite, 1},          // back wall z = 4
-              {z, -3.0, x, y, {0, 0}, kInfinite, 2},           // wall behind, z = -3
-              {-y, -1.3, x, z, {0, 0}, kInfinite, 3},          // floor y = 1.3
-              {y, -1.6, x, z, {0, 0}, kInfinite, 4},           // ceiling y = -1.6
-              {x, -2.2, z, y, {0, 0}, kInfinite, 5},           // left wall x = -2.2
-              {-x, -2.5, z, y, {0, 0}, kInfinite, 6},          // right wall x = 2.5
-              {-z, -2.3, x, y, {0.9, 0.2}, {0.45, 0.35}, 7}};  // panel at z = 2.3
+    rects_ = {{-z, -4.0, x, y, 1},                             // back wall z = 4
+              {z, -3.0, x, y, 2},                              // wall behind, z = -3
+              {-y, -1.3, x, z, 3},                             // floor y = 1.3
+              {y, -1.6, x, z, 4},                              // ceiling y = -1.6
+              {x, -2.2, z, y, 5},                              // left wall x = -2.2
+              {-x, -2.5, z, y, 6},                             // right wall x = 2.5
+              {-z, -2.3, x, y, 7, {0.9, 0.2}, {0.45, 0.35}}};  // panel at z = 2.3
     rays_.resize(static_cast<size_t>(cam.width) * cam.height);
     for (int v = 0; v < cam.height; ++v) {
       for (int u = 0; u < cam.width; ++u) {
@@ -101,28 +101,24 @@ class RoomScene {
     return true;
   }
 
-  // True when the pixels within `radius` of uv all see the same surface as uv (no occlusion
-  // boundary or seam nearby).
-  bool on_one_surface(const Eigen::Isometry3d& T_w_c, const Eigen::Vector2d& uv,
-                      double radius) const {
-    const TexturedRect* centre = nullptr;
-    Eigen::Vector3d p;
-    if (!cast(T_w_c, cam_.unproject_normalised(uv).homogeneous(), &p, &centre)) return false;
-    for (int k = 0; k < 8; ++k) {
-      const double angle = k * M_PI / 4.0;
-      const Eigen::Vector2d q = uv + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-      const TexturedRect* other = nullptr;
-      if (!cast(T_w_c, cam_.unproject_normalised(q).homogeneous(), &p, &other) || other != centre)
-        return false;
-    }
-    return true;
-  }
-
   // The surface seen at pixel uv (nullptr: none).
   const TexturedRect* surface_at(const Eigen::Isometry3d& T_w_c, const Eigen::Vector2d& uv) const {
     const TexturedRect* hit = nullptr;
     Eigen::Vector3d p;
     return cast(T_w_c, cam_.unproject_normalised(uv).homogeneous(), &p, &hit) ? hit : nullptr;
+  }
+
+  // True when the pixels within `radius` of uv all see the same surface as uv (no occlusion
+  // boundary or seam nearby).
+  bool on_one_surface(const Eigen::Isometry3d& T_w_c, const Eigen::Vector2d& uv,
+                      double radius) const {
+    const TexturedRect* centre = surface_at(T_w_c, uv);
+    for (int k = 0; k < 8 && centre; ++k) {
+      const double angle = k * M_PI / 4.0;
+      const Eigen::Vector2d q = uv + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      if (surface_at(T_w_c, q) != centre) return false;
+    }
+    return centre != nullptr;
   }
 
   // The camera-frame point seen at pixel uv.
@@ -166,8 +162,6 @@ class RoomScene {
   }
 
  private:
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
-  inline static const Eigen::Vector2d kInfinite{kInf, kInf};
   PinholeRadtan cam_;
   std::vector<TexturedRect> rects_;
   std::vector<Eigen::Vector3d> rays_;  // (x, y, 1) undistorted, per pixel

@@ -8,7 +8,8 @@ namespace {
 TEST(ImagePyramid, HalvesAndAverages) {
   cv::Mat img(480, 752, CV_8UC1);
   for (int y = 0; y < img.rows; ++y)
-    for (int x = 0; x < img.cols; ++x) img.at<uint8_t>(y, x) = static_cast<uint8_t>((x * 7 + y * 3) % 251);
+    for (int x = 0; x < img.cols; ++x)
+      img.at<uint8_t>(y, x) = static_cast<uint8_t>((x * 7 + y * 3) % 251);
   const ImagePyramid pyr = build_pyramid(img, 4);
   ASSERT_EQ(pyr.num_levels(), 4);
   EXPECT_EQ(pyr.levels[3].cols, 94);

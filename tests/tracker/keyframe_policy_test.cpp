@@ -24,10 +24,10 @@ TEST(KeyframePolicy, EachCriterionFires) {
   const KeyframePolicyOptions o;
   const int64_t ok_interval = 200'000'000;
   EXPECT_FALSE(decide_keyframe(o, 0.01, 5.0, 200, ok_interval).is_keyframe);
-  EXPECT_EQ(decide_keyframe(o, 0.1, 5.0, 200, ok_interval).reason, "pose change");
+  EXPECT_EQ(decide_keyframe(o, 0.3, 5.0, 200, ok_interval).reason, "pose change");
   EXPECT_EQ(decide_keyframe(o, 0.01, 30.0, 200, ok_interval).reason, "parallax");
-  EXPECT_TRUE(decide_keyframe(o, 0.01, 5.0, 10, 0).is_keyframe);  // too few: even right away
-  EXPECT_FALSE(decide_keyframe(o, 0.1, 30.0, 200, 0).is_keyframe);  // too soon
+  EXPECT_TRUE(decide_keyframe(o, 0.01, 5.0, 10, 0).is_keyframe);    // too few: even right away
+  EXPECT_FALSE(decide_keyframe(o, 0.3, 30.0, 200, 0).is_keyframe);  // too soon
   EXPECT_EQ(decide_keyframe(o, 0.0, 0.0, 200, o.max_interval_ns).reason, "interval");
 }
 

@@ -35,12 +35,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    hs::TrackerOptions options = config.empty() ? hs::TrackerOptions{} : hs::load_tracker_options(config);
+    hs::TrackerOptions options =
+        config.empty() ? hs::TrackerOptions{} : hs::load_tracker_options(config);
     if (!descriptors.empty()) {
       if (descriptors != "hybrid" && descriptors != "every-frame")
         throw hs::InputError("--descriptors must be hybrid or every-frame");
-      options.descriptors = descriptors == "hybrid" ? hs::DescriptorMode::kHybrid
-                                                    : hs::DescriptorMode::kEveryFrame;
+      options.descriptors =
+          descriptors == "hybrid" ? hs::DescriptorMode::kHybrid : hs::DescriptorMode::kEveryFrame;
     }
     if (mono) options.stereo = false;
     hs::OfflineRunOptions run_options;
@@ -59,7 +60,8 @@ int main(int argc, char** argv) {
       if (seed >= 0) scenario.seed = static_cast<uint64_t>(seed);
       options.calib = scenario.camera.calib;
       hs::sim::DatasetGenerator gen(scenario);
-      std::cerr << "hs-run: simulating " << scenario.name << ", " << gen.num_frames() << " frames\n";
+      std::cerr << "hs-run: simulating " << scenario.name << ", " << gen.num_frames()
+                << " frames\n";
       result = hs::run_offline(options, hs::sim_source(gen, options.stereo), run_options);
     }
     std::filesystem::create_directories(out_dir);
