@@ -41,14 +41,13 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
   auto kf = std::make_shared<Keyframe>();
   kf->id = map.new_keyframe_id();
   kf->state = nav;
-  Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();
-  T_w_b.linear() = nav.q_w_b.toRotationMatrix();
-  T_w_b.translation() = nav.p_w_b;
-  kf->T_w_c0 = T_w_b * options_.calib.cam0.T_b_c;
+  kf->T_w_c0 = nav.T_w_b() * options_.calib.cam0.T_b_c;
   kf->pyramid = pyramid;
   kf->thumbnail = pyramid.levels.back();
 
-  OrbFeatures detected = features ? *features : orb_.extract(frame.cam0);
+  // Every-frame mode brings described features; hybrid keyframes detect here and describe
+  // detected and tracked keypoints below in one pass (one ORB pyramid).
+  OrbFeatures detected = features ? *features : OrbFeatures{orb_.detect(frame.cam0), cv::Mat()};
 
   // Tracked points take the detected keypoint they coincide with; the others become
   // keypoints of their own (octave 0, orientation from the intensity centroid), so that every
@@ -58,9 +57,8 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
   det_uv.reserve(detected.size());
   for (const cv::KeyPoint& kp : detected.keypoints) det_uv.emplace_back(kp.pt.x, kp.pt.y);
   const KeypointGrid grid(det_uv, frame.cam0.cols, frame.cam0.rows);
-  std::vector<int64_t> det_point(detected.size(), -1);
+  std::vector<int64_t> point_ids(detected.size(), -1);
   std::vector<cv::KeyPoint> extra;
-  std::vector<int64_t> extra_point;
   std::vector<int> near;
   for (const TrackedObservation& t : tracked) {
     grid.query(t.uv, kAttachRadiusPx, near);
@@ -68,42 +66,42 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     double best_d2 = 1e9;
     for (int i : near) {
       const double d2 = (det_uv[i].cast<double>() - t.uv).squaredNorm();
-      if (det_point[i] < 0 && d2 < best_d2) best = i, best_d2 = d2;
+      if (point_ids[i] < 0 && d2 < best_d2) best = i, best_d2 = d2;
     }
     if (best >= 0) {
-      det_point[best] = t.point_id;
+      point_ids[best] = t.point_id;
       continue;
     }
     const cv::Point2f pt(static_cast<float>(t.uv.x()), static_cast<float>(t.uv.y()));
     extra.emplace_back(pt, 31.f, intensity_centroid_angle(frame.cam0, pt), 0.f, 0);
-    extra_point.push_back(t.point_id);
-  }
-  cv::Mat extra_desc;
-  if (!extra.empty()) {
-    const size_t before = extra.size();
-    // ORB drops keypoints too close to the border; keep the point ids in step by position.
-    std::vector<cv::KeyPoint> kept = extra;
-    cv::ORB::create()->compute(frame.cam0, kept, extra_desc);
-    if (kept.size() != before) {
-      std::vector<int64_t> ids;
-      size_t j = 0;
-      for (size_t i = 0; i < before && j < kept.size(); ++i)
-        if (extra[i].pt == kept[j].pt) ids.push_back(extra_point[i]), ++j;
-      extra_point = std::move(ids);
-    }
-    extra = std::move(kept);
+    point_ids.push_back(t.point_id);
   }
 
-  kf->features.keypoints = detected.keypoints;
-  kf->features.keypoints.insert(kf->features.keypoints.end(), extra.begin(), extra.end());
-  if (extra_desc.empty())
+  // Keypoints still needing descriptors: the extras, or all of them when nothing came described.
+  // ORB drops keypoints too close to the border and returns the others grouped by octave, so
+  // each carries its index in class_id to keep the point ids in step.
+  const size_t first_undescribed = detected.descriptors.empty() ? 0 : detected.size();
+  std::vector<cv::KeyPoint> keypoints = std::move(detected.keypoints);
+  keypoints.insert(keypoints.end(), extra.begin(), extra.end());
+  std::vector<cv::KeyPoint> to_describe(keypoints.begin() + first_undescribed, keypoints.end());
+  for (size_t i = 0; i < to_describe.size(); ++i)
+    to_describe[i].class_id = static_cast<int>(first_undescribed + i);
+  const OrbFeatures described = orb_.describe(frame.cam0, std::move(to_describe));
+  std::vector<int64_t> kept_ids(point_ids.begin(), point_ids.begin() + first_undescribed);
+  keypoints.resize(first_undescribed);
+  for (const cv::KeyPoint& kp : described.keypoints) {
+    kept_ids.push_back(point_ids[static_cast<size_t>(kp.class_id)]);
+    keypoints.push_back(kp);
+    keypoints.back().class_id = -1;
+  }
+  if (first_undescribed == 0)
+    kf->features.descriptors = described.descriptors;
+  else if (described.descriptors.empty())
     kf->features.descriptors = detected.descriptors.clone();
-  else if (detected.descriptors.empty())
-    kf->features.descriptors = extra_desc;
   else
-    cv::vconcat(detected.descriptors, extra_desc, kf->features.descriptors);
-  kf->point_ids = det_point;
-  kf->point_ids.insert(kf->point_ids.end(), extra_point.begin(), extra_point.end());
+    cv::vconcat(detected.descriptors, described.descriptors, kf->features.descriptors);
+  kf->features.keypoints = std::move(keypoints);
+  kf->point_ids = std::move(kept_ids);
   const size_t n = kf->features.size();
   kf->u_right.assign(n, -1.f);
   kf->depth.assign(n, -1.f);

@@ -11,8 +11,8 @@
 namespace hs {
 
 struct KeyframePolicyOptions {
-  double pose_change = 0.25;  // tau_T: || T_t^-1 T_{t-1} - I ||_F, Eq. 13
-  double parallax_px = 25.0;  // tau_p: mean pixel motion since the last keyframe, Eq. 14
+  double pose_change = 0.5;   // tau_T: || T_t^-1 T_{t-1} - I ||_F, Eq. 13
+  double parallax_px = 25.0;  // tau_p: mean rotation-compensated pixel motion since the KF, Eq. 14
   int min_tracked = 80;       // N_min of Eq. 15
   int64_t min_interval_ns = 100'000'000;
   int64_t max_interval_ns = 1'000'000'000;

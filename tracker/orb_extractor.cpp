@@ -12,7 +12,7 @@ OrbExtractor::OrbExtractor(const OrbOptions& options) : options_(options) {
                          /*patchSize=*/31, options.fast_threshold);
 }
 
-OrbFeatures OrbExtractor::extract(const cv::Mat& image) const {
+std::vector<cv::KeyPoint> OrbExtractor::detect(const cv::Mat& image) const {
   std::vector<cv::KeyPoint> candidates;
   orb_->detect(image, candidates);
 
@@ -44,9 +44,14 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& image) const {
     if (!any) break;
   }
 
+  return kept;
+}
+
+OrbFeatures OrbExtractor::describe(const cv::Mat& image,
+                                   std::vector<cv::KeyPoint> keypoints) const {
   OrbFeatures out;
-  orb_->compute(image, kept, out.descriptors);
-  out.keypoints = std::move(kept);
+  if (!keypoints.empty()) orb_->compute(image, keypoints, out.descriptors);
+  out.keypoints = std::move(keypoints);
   return out;
 }
 

@@ -25,7 +25,12 @@ struct OrbFeatures {
 class OrbExtractor {
  public:
   explicit OrbExtractor(const OrbOptions& options);
-  OrbFeatures extract(const cv::Mat& image) const;
+  OrbFeatures extract(const cv::Mat& image) const { return describe(image, detect(image)); }
+  // Keypoints only, spread by the grid.
+  std::vector<cv::KeyPoint> detect(const cv::Mat& image) const;
+  // Descriptors of given keypoints (octave and angle as set). Keypoints too close to the border
+  // for a descriptor are dropped; the others keep their order.
+  OrbFeatures describe(const cv::Mat& image, std::vector<cv::KeyPoint> keypoints) const;
   const OrbOptions& options() const { return options_; }
 
  private:

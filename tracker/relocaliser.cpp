@@ -32,7 +32,11 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
     rows.push_back(static_cast<int>(i));
     p_w.push_back(*positions[i]);
   }
-  if (rows.size() < static_cast<size_t>(options_.reloc_min_inliers) || current.size() == 0) {
+  if (current.size() == 0) {
+    r.message = "no ORB features in the current image";
+    return r;
+  }
+  if (rows.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
     r.message = "keyframe " + std::to_string(kf.id) + " has too few map points";
     return r;
   }

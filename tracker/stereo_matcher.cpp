@@ -30,13 +30,18 @@ std::vector<StereoMatch> StereoMatcher::match(const cv::Mat& image0, const cv::M
   }
   const cv::Size win(options_.window, options_.window);
   const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+  // Both pyramids once, shared by the forward and the backward pass.
+  std::vector<cv::Mat> pyr0, pyr1;
+  const int max_level = options_.pyramid_levels - 1;
+  cv::buildOpticalFlowPyramid(image0, pyr0, win, max_level);
+  cv::buildOpticalFlowPyramid(image1, pyr1, win, max_level);
   std::vector<uint8_t> ok_fwd, ok_back;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(image0, image1, left, right, ok_fwd, err, win,
-                           options_.pyramid_levels - 1, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(pyr0, pyr1, left, right, ok_fwd, err, win, max_level, term,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
   back = left;
-  cv::calcOpticalFlowPyrLK(image1, image0, right, back, ok_back, err, win,
-                           options_.pyramid_levels - 1, term, cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(pyr1, pyr0, right, back, ok_back, err, win, max_level, term,
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
 
   const double max_epi2 = options_.max_epipolar_px * options_.max_epipolar_px;
   for (size_t i = 0; i < uv0.size(); ++i) {

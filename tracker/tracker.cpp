@@ -73,6 +73,18 @@ Eigen::Matrix<double, 15, 1> initial_sigmas(bool static_start) {
   return s;
 }
 
+Matrix15d information_from_sigmas(const Eigen::Matrix<double, 15, 1>& sigma) {
+  return sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+}
+
+// Without the IMU: the last state moved on at its velocity, attitude held.
+NavState constant_velocity(const NavState& last, int64_t t_ns) {
+  NavState s = last;
+  s.t_ns = t_ns;
+  s.p_w_b += last.v_w * ns_to_s(t_ns - last.t_ns);
+  return s;
+}
+
 }  // namespace
 
 Tracker::Tracker(const TrackerOptions& options)
@@ -85,10 +97,7 @@ Tracker::Tracker(const TrackerOptions& options)
       relocaliser_(options_, optimizer_) {}
 
 Eigen::Isometry3d Tracker::T_w_c0(const NavState& nav) const {
-  Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();
-  T_w_b.linear() = nav.q_w_b.toRotationMatrix();
-  T_w_b.translation() = nav.p_w_b;
-  return T_w_b * options_.calib.cam0.T_b_c;
+  return nav.T_w_b() * options_.calib.cam0.T_b_c;
 }
 
 std::string Tracker::validate(const StereoFrame& frame) {
@@ -107,13 +116,16 @@ std::string Tracker::validate(const StereoFrame& frame) {
            " frame timestamp " + std::to_string(frame.t_ns) + " (previous " +
            std::to_string(last_->t_ns) + "): frame dropped";
   }
-  if (imu_.empty() || frame.t_ns - imu_.latest_t_ns() > options_.max_camera_imu_offset_ns) {
+  // Once tracking, a frame the IMU does not reach is still tracked, on vision alone (track()).
+  if (imu_.empty() || (state_ == TrackState::kInitialising &&
+                       imu_behind_ns(frame.t_ns) > options_.max_camera_imu_offset_ns)) {
     ++counters_.rejected_clock_offset;
-    return imu_.empty() ? "no IMU data yet: frame dropped"
-                        : "IMU is " + std::to_string((frame.t_ns - imu_.latest_t_ns()) / 1000000) +
-                              " ms behind the camera (limit " +
-                              std::to_string(options_.max_camera_imu_offset_ns / 1000000) +
-                              " ms): frame dropped";
+    return imu_.empty()
+               ? "no IMU data yet: frame dropped"
+               : "initialising: IMU is " + std::to_string(imu_behind_ns(frame.t_ns) / 1000000) +
+                     " ms behind the camera (limit " +
+                     std::to_string(options_.max_camera_imu_offset_ns / 1000000) +
+                     " ms): frame dropped";
   }
   return "";
 }
@@ -154,7 +166,20 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   }
 
   const ImuPreintegration pim = preintegrate_since_last(frame.t_ns);
-  NavState predicted = predict(last_->nav, pim, default_gravity_w());
+  // An IMU gap longer than interpolation can bridge, or an IMU behind the camera (the window
+  // ends extrapolated): this frame is tracked on vision alone from a constant-velocity guess.
+  const bool use_imu = imu_usable(pim);
+  if (!use_imu) {
+    ++counters_.frames_without_imu;
+    r.message = "IMU gap of " + std::to_string(pim.status().largest_gap_ns / 1000000) + " ms" +
+                (imu_behind_ns(frame.t_ns) > 0
+                     ? " (IMU " + std::to_string(imu_behind_ns(frame.t_ns) / 1000000) +
+                           " ms behind the camera)"
+                     : "") +
+                ": tracked on vision alone";
+  }
+  NavState predicted = use_imu ? predict(last_->nav, pim, default_gravity_w())
+                               : constant_velocity(last_->nav, frame.t_ns);
   predicted.t_ns = frame.t_ns;
   const Eigen::Isometry3d T_w_c_pred = T_w_c0(predicted);
   timer.stage("imu_predict");
@@ -166,10 +191,10 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   if (options_.descriptors == DescriptorMode::kHybrid) {
     const std::optional<Eigen::Isometry3d> aligned = align_to_last(pyr, T_w_c_pred);
     timer.stage("direct_align");
-    // Without the photometric refinement the IMU prediction is the guess: search wider.
-    corr = direct_correspondences(
-        pyr, aligned ? *aligned : T_w_c_pred,
-        aligned ? options_.patch_search_radius_px : 3.0 * options_.patch_search_radius_px);
+    // Without the photometric refinement the prediction is the guess: search wider.
+    corr = direct_correspondences(pyr, aligned ? *aligned : T_w_c_pred,
+                                  aligned && use_imu ? options_.patch_search_radius_px
+                                                     : 3.0 * options_.patch_search_radius_px);
     timer.stage("patch_align");
     method = TrackMethod::kDirect;
   }
@@ -183,7 +208,8 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
     method = TrackMethod::kDescriptors;
   }
 
-  const PoseOptResult opt = optimise(predicted, corr, pim);
+  const PoseOptResult opt =
+      use_imu ? optimise(predicted, corr, pim) : optimise_vision_only(predicted, corr);
   timer.stage("pose_opt");
   if (opt.valid()) {
     std::vector<TrackedObservation> tracked;
@@ -212,6 +238,14 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
     r.method = TrackMethod::kRelocalisedGlobal;
   }
   timer.stage("relocalise");
+  if (reloc.ok) {
+    if (const std::string veto = check_against_prediction(reloc.nav, predicted, frame.t_ns);
+        !veto.empty()) {
+      ++counters_.relocalisations_rejected;
+      reloc.ok = false;
+      reloc.message = veto;
+    }
+  }
   if (reloc.ok) {
     ++counters_.relocalisations;
     NavState nav = reloc.nav;
@@ -252,6 +286,46 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   lf.nav = predicted;
   last_ = std::move(lf);
   return r;
+}
+
+int64_t Tracker::imu_behind_ns(int64_t t_ns) const {
+  return imu_.empty() ? t_ns : std::max<int64_t>(0, t_ns - imu_.latest_t_ns());
+}
+
+bool Tracker::imu_usable(const ImuPreintegration& pim) const {
+  return pim.t1_ns() > pim.t0_ns() &&
+         pim.status().largest_gap_ns <= options_.max_interpolated_imu_gap_ns &&
+         pim.status().extrapolated_ns <= options_.max_interpolated_imu_gap_ns;
+}
+
+std::string Tracker::check_against_prediction(const NavState& reloc, const NavState& predicted,
+                                              int64_t t_ns) const {
+  // While the IMU has carried the state for a short time, its prediction bounds where the body
+  // can be: a relocalisation far from it is a false match (repeated structure, a keyframe built
+  // at a wrong pose). After a long loss the prediction no longer says much.
+  const double dt_s = ns_to_s(t_ns - last_tracked_t_ns_);
+  if (dt_s > ns_to_s(options_.reloc_gate.trust_imu_ns)) return "";
+  const double gate_m =
+      options_.reloc_gate.position_m + 0.5 * options_.reloc_gate.accel_error_mps2 * dt_s * dt_s;
+  const double gate_rad = options_.reloc_gate.rotation_rad;
+  const double jump_m = (reloc.p_w_b - predicted.p_w_b).norm();
+  const double jump_rad = Eigen::AngleAxisd(predicted.q_w_b.inverse() * reloc.q_w_b).angle();
+  if (jump_m <= gate_m && jump_rad <= gate_rad) return "";
+  return "relocalisation rejected: " + std::to_string(jump_m) + " m / " +
+         std::to_string(jump_rad * 180.0 / M_PI) + " deg from the IMU prediction (gate " +
+         std::to_string(gate_m) + " m / " + std::to_string(gate_rad * 180.0 / M_PI) +
+         " deg after " + std::to_string(dt_s) + " s without tracking)";
+}
+
+PoseOptResult Tracker::optimise_vision_only(const NavState& predicted, const Correspondences& c) {
+  PoseOptResult opt = optimizer_.optimise_pose(predicted, c.obs);
+  if (opt.valid()) {
+    // Velocity by finite difference; the IMU term of the next frames refines it.
+    const double dt_s = ns_to_s(predicted.t_ns - last_->t_ns);
+    if (dt_s > 0) opt.state.v_w = (opt.state.p_w_b - last_->nav.p_w_b) / dt_s;
+    opt.information.setZero();  // no 15-dim information: accept() sets a loose prior
+  }
+  return opt;
 }
 
 ImuPreintegration Tracker::preintegrate_since_last(int64_t t_ns) {
@@ -391,7 +465,7 @@ PoseOptResult Tracker::optimise(const NavState& predicted, const Correspondences
   PreviousState prev;
   prev.state = last_->nav;
   prev.fixed = !last_->has_information;
-  prev.information = last_->information;
+  prev.information = options_.prior_fading * last_->information;
   if (pim.t1_ns() > pim.t0_ns()) {
     try {
       return optimizer_.optimise_inertial(predicted, c.obs, pim, prev);
@@ -408,13 +482,20 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
   for (const TrackedObservation& t : tracked)
     if (MapPoint* p = map_.point(t.point_id)) ++p->times_tracked;
 
-  std::vector<Eigen::Vector2d> uv_kf, uv_cur;
-  for (const TrackedObservation& t : tracked)
-    if (const auto it = last_keyframe_uv_.find(t.point_id); it != last_keyframe_uv_.end()) {
-      uv_kf.push_back(it->second);
-      uv_cur.push_back(t.uv);
-    }
+  // Eq. 14 on rotation-compensated pixels: the keyframe's rays turned by the rotation since,
+  // so that turning in place (which adds no triangulation baseline) does not spawn keyframes.
   const Eigen::Isometry3d T_w_c = T_w_c0(nav);
+  const Eigen::Matrix3d R_cur_kf = T_w_c.linear().transpose() * last_keyframe_T_w_c_.linear();
+  std::vector<Eigen::Vector2d> uv_kf, uv_cur;
+  for (const TrackedObservation& t : tracked) {
+    const auto it = last_keyframe_rays_.find(t.point_id);
+    Eigen::Vector2d uv;
+    if (it == last_keyframe_rays_.end() ||
+        !options_.calib.cam0.intrinsics.project(R_cur_kf * it->second, &uv))
+      continue;
+    uv_kf.push_back(uv);
+    uv_cur.push_back(t.uv);
+  }
   const KeyframeDecision decision =
       decide_keyframe(options_.keyframe, pose_change_norm(last_keyframe_T_w_c_, T_w_c),
                       mean_parallax(uv_kf, uv_cur), static_cast<int>(tracked.size()),
@@ -433,16 +514,14 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
                                                              kf->features.keypoints[i].pt.y)});
     map_.add_keyframe(kf);
     ++counters_.keyframes;
-    last_keyframe_t_ns_ = frame.t_ns;
-    last_keyframe_T_w_c_ = T_w_c;
-    last_keyframe_uv_.clear();
-    for (const TrackedObservation& t : tracked) last_keyframe_uv_[t.point_id] = t.uv;
+    remember_keyframe_view(frame.t_ns, T_w_c, tracked);
     r.is_keyframe = true;
     r.keyframe = kf;
     const std::string why = decision.is_keyframe ? decision.reason : "relocalised";
     r.message += (r.message.empty() ? "" : "; ") + std::string("keyframe (") + why + ", " +
                  std::to_string(stats.new_points) + " new points)";
   }
+  last_tracked_t_ns_ = frame.t_ns;
   r.state = state_;
   r.nav = nav;
   r.tracked_points = static_cast<int>(tracked.size());
@@ -457,6 +536,11 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
   lf.tracked = std::move(tracked);
   if (opt && !opt->information.isZero()) {
     lf.information = opt->information;
+    lf.has_information = true;
+  } else {
+    // Relocalised or tracked without the IMU: velocity and biases are guesses, so the next
+    // frame's IMU term starts from a loose prior rather than holding them fixed.
+    lf.information = information_from_sigmas(initial_sigmas(false));
     lf.has_information = true;
   }
   last_ = std::move(lf);
@@ -486,8 +570,7 @@ bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, Fram
   start_map_in_place(frame, pyr, nav, r);
   if (state_ == TrackState::kInitialising) return false;
   // The first state's prior: see initial_sigmas.
-  const Eigen::Matrix<double, 15, 1> sigma = initial_sigmas(gravity.ok);
-  last_->information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+  last_->information = information_from_sigmas(initial_sigmas(gravity.ok));
   last_->has_information = true;
   r.message += gravity.ok ? "; static start: gravity and gyro bias from the IMU"
                           : "; moving start (" + gravity.reason +
@@ -511,7 +594,11 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   map_ = std::move(trial_map);
   map_.add_keyframe(kf);
   ++counters_.keyframes;
-  if (!first) ++counters_.reinitialisations;
+  if (!first) {
+    // The dead-reckoned pose the new map starts from has no link to the old map: a new epoch.
+    ++counters_.reinitialisations;
+    ++map_id_;
+  }
   state_ = TrackState::kTracking;
   lost_since_ns_ = -1;
 
@@ -520,12 +607,11 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
     if (kf->point_ids[i] >= 0)
       tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
                                                            kf->features.keypoints[i].pt.y)});
-  last_keyframe_t_ns_ = frame.t_ns;
-  last_keyframe_T_w_c_ = T_w_c0(nav);
-  last_keyframe_uv_.clear();
-  for (const TrackedObservation& t : tracked) last_keyframe_uv_[t.point_id] = t.uv;
+  remember_keyframe_view(frame.t_ns, T_w_c0(nav), tracked);
 
+  last_tracked_t_ns_ = frame.t_ns;
   r.state = state_;
+  r.map_id = map_id_;
   r.nav = nav;
   r.is_keyframe = true;
   r.keyframe = kf;
@@ -533,13 +619,26 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   r.quality = 0.5f;
   r.message += (r.message.empty() ? "" : "; ") +
                std::string(first ? "map initialised" : "new local map started in place") +
-               " with " + std::to_string(stats.new_points) + " stereo points";
+               " with " + std::to_string(stats.new_points) + " stereo points" +
+               (first ? "" : ": map id now " + std::to_string(map_id_));
   LastFrame lf;
   lf.t_ns = frame.t_ns;
   lf.pyramid = pyr;
   lf.nav = nav;
   lf.tracked = std::move(tracked);
+  // The initial prior (initialise() tightens it for a static start).
+  lf.information = information_from_sigmas(initial_sigmas(false));
+  lf.has_information = true;
   last_ = std::move(lf);
+}
+
+void Tracker::remember_keyframe_view(int64_t t_ns, const Eigen::Isometry3d& T_w_c,
+                                     const std::vector<TrackedObservation>& tracked) {
+  last_keyframe_t_ns_ = t_ns;
+  last_keyframe_T_w_c_ = T_w_c;
+  last_keyframe_rays_.clear();
+  for (const TrackedObservation& t : tracked)
+    last_keyframe_rays_[t.point_id] = options_.calib.cam0.intrinsics.unproject(t.uv);
 }
 
 std::optional<NavState> Tracker::propagate(int64_t t_ns) const {

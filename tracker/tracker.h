@@ -32,6 +32,8 @@ struct TrackerCounters {
   int64_t imu_gaps = 0;               // frame intervals with an IMU gap (bridged)
   int64_t lost_frames = 0;
   int64_t relocalisations = 0;
+  int64_t relocalisations_rejected = 0;  // too far from the IMU prediction
+  int64_t frames_without_imu = 0;        // IMU gap or IMU behind: tracked on vision alone
   int64_t reinitialisations = 0;
 };
 
@@ -81,9 +83,17 @@ class Tracker {
                                              const Eigen::Isometry3d& T_w_c);
   PoseOptResult optimise(const NavState& predicted, const Correspondences& c,
                          const ImuPreintegration& pim);
+  PoseOptResult optimise_vision_only(const NavState& predicted, const Correspondences& c);
+  int64_t imu_behind_ns(int64_t t_ns) const;  // frame time minus the newest IMU sample's, >= 0
+  bool imu_usable(const ImuPreintegration& pim) const;
+  // Empty when a relocalised pose is consistent with the IMU prediction, else why not.
+  std::string check_against_prediction(const NavState& reloc, const NavState& predicted,
+                                       int64_t t_ns) const;
   void accept(const StereoFrame& frame, ImagePyramid pyr, const NavState& nav,
               std::vector<TrackedObservation> tracked, const PoseOptResult* opt,
               const OrbFeatures* features, FrameResult& result);
+  void remember_keyframe_view(int64_t t_ns, const Eigen::Isometry3d& T_w_c,
+                              const std::vector<TrackedObservation>& tracked);
   void start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr, const NavState& nav,
                           FrameResult& result);
 
@@ -101,8 +111,10 @@ class Tracker {
   std::optional<LastFrame> last_;
   int64_t last_keyframe_t_ns_ = 0;
   Eigen::Isometry3d last_keyframe_T_w_c_ = Eigen::Isometry3d::Identity();
-  std::unordered_map<int64_t, Eigen::Vector2d> last_keyframe_uv_;  // point pixels at the keyframe
+  // Rays (camera frame) of the points tracked at the last keyframe, for the parallax (Eq. 14).
+  std::unordered_map<int64_t, Eigen::Vector3d> last_keyframe_rays_;
   int64_t lost_since_ns_ = -1;
+  int64_t last_tracked_t_ns_ = 0;  // last frame tracked or relocalised
 };
 
 }  // namespace hs

@@ -1,5 +1,6 @@
 #include "tracker/tracker_options.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/config/config_section.h"
@@ -84,14 +85,19 @@ void read_keyframe(ConfigSection& s, KeyframePolicyOptions& o) {
   s.read("pose_change", o.pose_change);
   s.read("parallax_px", o.parallax_px);
   s.read("min_tracked", o.min_tracked);
-  double min_s = static_cast<double>(o.min_interval_ns) * 1e-9;
-  double max_s = static_cast<double>(o.max_interval_ns) * 1e-9;
-  s.read("min_interval_s", min_s);
-  s.read("max_interval_s", max_s);
-  if (min_s < 0 || max_s <= min_s)
+  s.read_seconds("min_interval_s", o.min_interval_ns);
+  s.read_seconds("max_interval_s", o.max_interval_ns);
+  if (o.min_interval_ns < 0 || o.max_interval_ns <= o.min_interval_ns)
     s.fail("max_interval_s", "needs 0 <= min_interval_s < max_interval_s");
-  o.min_interval_ns = static_cast<int64_t>(min_s * 1e9);
-  o.max_interval_ns = static_cast<int64_t>(max_s * 1e9);
+}
+
+void read_node(ConfigSection& s, NodeOptions& o) {
+  s.read("frame_queue_size", o.frame_queue_size);
+  if (o.frame_queue_size < 1) s.fail("frame_queue_size", "must be at least 1");
+  s.read("pose_imu_decimation", o.pose_imu_decimation);
+  if (o.pose_imu_decimation < 1) s.fail("pose_imu_decimation", "must be at least 1");
+  s.read_seconds("heartbeat_period_s", o.heartbeat_period_ns);
+  if (o.heartbeat_period_ns <= 0) s.fail("heartbeat_period_s", "must be > 0");
 }
 
 }  // namespace
@@ -126,12 +132,12 @@ TrackerOptions load_tracker_options(const std::string& path) {
     if (o.new_point_cell_px < 4 || o.max_new_points_per_keyframe < 1)
       s.fail("new_point_cell_px", "new point options out of range");
     s.read("reloc_min_inliers", o.reloc_min_inliers);
-    double reinit_s = static_cast<double>(o.reinit_after_lost_ns) * 1e-9;
-    s.read("reinit_after_lost_s", reinit_s);
-    o.reinit_after_lost_ns = static_cast<int64_t>(reinit_s * 1e9);
-    double offset_s = static_cast<double>(o.max_camera_imu_offset_ns) * 1e-9;
-    s.read("max_camera_imu_offset_s", offset_s);
-    o.max_camera_imu_offset_ns = static_cast<int64_t>(offset_s * 1e9);
+    s.read_seconds("reinit_after_lost_s", o.reinit_after_lost_ns);
+    s.read_seconds("max_camera_imu_offset_s", o.max_camera_imu_offset_ns);
+    s.read_seconds("max_interpolated_imu_gap_s", o.max_interpolated_imu_gap_ns);
+    s.read("prior_fading", o.prior_fading);
+    if (!(o.prior_fading > 0.0 && o.prior_fading <= 1.0))
+      s.fail("prior_fading", "must be in (0, 1]");
     s.read("local_map_keyframes", o.local_map.max_keyframes);
     s.read("relocalisation_keyframes", o.local_map.max_database_keyframes);
     if (o.max_points_per_frame < 10 || o.point_grid_px < 4 || o.local_map.max_keyframes < 2)
@@ -154,6 +160,18 @@ TrackerOptions load_tracker_options(const std::string& path) {
   top.section("direct", [&](ConfigSection& s) { read_direct(s, o.direct); });
   top.section("pose_optimisation", [&](ConfigSection& s) { read_pose_opt(s, o.pose_opt); });
   top.section("keyframes", [&](ConfigSection& s) { read_keyframe(s, o.keyframe); });
+  top.section("relocalisation_gate", [&](ConfigSection& s) {
+    RelocGateOptions& g = o.reloc_gate;
+    s.read("position_m", g.position_m);
+    s.read("accel_error_mps2", g.accel_error_mps2);
+    double rotation_deg = g.rotation_rad * 180.0 / M_PI;
+    s.read("rotation_deg", rotation_deg);
+    g.rotation_rad = rotation_deg * M_PI / 180.0;
+    s.read_seconds("trust_imu_s", g.trust_imu_ns);
+    if (g.position_m <= 0 || g.accel_error_mps2 < 0 || g.rotation_rad <= 0)
+      s.fail("position_m", "relocalisation gate values must be positive");
+  });
+  top.section("node", [&](ConfigSection& s) { read_node(s, o.node); });
   o.channels = read_channel_names(top);
   top.finish();
   return o;

@@ -6,6 +6,7 @@
 
 #include "common/config/yaml_file.h"
 #include "common/core/error.h"
+#include "common/core/types.h"
 
 namespace hs {
 namespace {
@@ -71,6 +72,13 @@ YAML::Node ConfigSection::lookup(const std::string& key) {
 
 std::string ConfigSection::qualified(const std::string& key) const {
   return name_.empty() ? key : name_ + "." + key;
+}
+
+bool ConfigSection::read_seconds(const std::string& key, int64_t& t_ns) {
+  double t_s = ns_to_s(t_ns);
+  if (!read(key, t_s)) return false;
+  t_ns = s_to_ns(t_s);
+  return true;
 }
 
 void ConfigSection::finish() const {

@@ -32,6 +32,9 @@ class ConfigSection {
     return true;
   }
 
+  // Optional duration key given in seconds, stored as int64 nanoseconds.
+  bool read_seconds(const std::string& key, int64_t& t_ns);
+
   // Mandatory key.
   template <class T>
   T require(const std::string& key) {

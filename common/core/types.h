@@ -20,6 +20,13 @@ struct NavState {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();
+
+  Eigen::Isometry3d T_w_b() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q_w_b.toRotationMatrix();
+    T.translation() = p_w_b;
+    return T;
+  }
 };
 
 constexpr double kNsPerSec = 1e9;

@@ -18,6 +18,7 @@ struct DemoOptions {
   std::string name = "default";
   std::vector<double> gains = {1.0};
   int64_t window_ns = 0;
+  int64_t timeout_ns = 2'000'000'000;
 };
 
 DemoOptions load_demo(const std::string& path) {
@@ -30,6 +31,7 @@ DemoOptions load_demo(const std::string& path) {
     s.read("name", o.name);
     s.read("gains", o.gains);
     s.read("window_ns", o.window_ns);
+    s.read_seconds("timeout_s", o.timeout_ns);
   });
   top.finish();
   return o;
@@ -47,6 +49,15 @@ TEST(ConfigSection, ReadsTypedKeysAndKeepsDefaults) {
   EXPECT_EQ(o.window_ns, 5000000000LL);
   EXPECT_DOUBLE_EQ(o.threshold, DemoOptions().threshold);
   EXPECT_EQ(o.name, DemoOptions().name);
+}
+
+TEST(ConfigSection, SecondsKeyBecomesNanoseconds) {
+  TempYaml f("demo:\n  timeout_s: 0.0015\n");
+  EXPECT_EQ(load_demo(f.path()).timeout_ns, 1'500'000);
+  TempYaml none("demo:\n  max_features: 1\n");
+  EXPECT_EQ(load_demo(none.path()).timeout_ns, DemoOptions().timeout_ns);
+  TempYaml bad("demo:\n  timeout_s: soon\n");
+  expect_input_error([&] { load_demo(bad.path()); }, {bad.path() + ":2:", "timeout_s"});
 }
 
 TEST(ConfigSection, EmptyFileGivesDefaults) {

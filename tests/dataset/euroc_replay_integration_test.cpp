@@ -1,13 +1,8 @@
 // End to end over real processes and udpm multicast on loopback: hs-euroc2lcm writes a log,
 // stock lcm-logplayer replays it, and a subscriber in this test, stock lcm-logger and
 // hs-record-trajectory must receive every message byte-exact.
-#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -17,9 +12,8 @@
 
 #include "common/core/csv.h"
 #include "common/lcm/lcm_connection.h"
+#include "tests/common/child_process.h"
 #include "tests/dataset/dataset_test_util.h"
-
-extern char** environ;
 
 namespace hs {
 namespace {
@@ -40,49 +34,7 @@ bool is_replay_channel(const std::string& channel) {
   return channel != kSyncChannel && channel != "LCM_SELF_TEST";
 }
 
-// A child process with stdout and stderr in `log`; killed and reaped at scope exit if needed.
-class Child {
- public:
-  Child(const std::vector<std::string>& argv, const std::string& log) {
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    const int rc = posix_spawnp(&pid_, args[0], &fa, nullptr, args.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0) pid_ = -1;
-  }
-  ~Child() {
-    if (pid_ > 0 && !exited_) {
-      ::kill(pid_, SIGKILL);
-      wait();
-    }
-  }
-  bool started() const { return pid_ > 0; }
-  bool running() {
-    int status = 0;
-    if (exited_ || ::waitpid(pid_, &status, WNOHANG) == 0) return !exited_;
-    exited_ = true;
-    status_ = status;
-    return false;
-  }
-  void signal(int sig) { ::kill(pid_, sig); }
-  int wait() {  // exit code, or 128 + signal
-    if (!exited_) {
-      ::waitpid(pid_, &status_, 0);
-      exited_ = true;
-    }
-    return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
-  }
-
- private:
-  pid_t pid_ = -1;
-  bool exited_ = false;
-  int status_ = 0;
-};
+using Child = test::ChildProcess;
 
 std::string read_text(const std::string& path) {
   std::string all;

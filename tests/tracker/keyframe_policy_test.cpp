@@ -23,11 +23,14 @@ TEST(KeyframePolicy, MeanParallax) {
 TEST(KeyframePolicy, EachCriterionFires) {
   const KeyframePolicyOptions o;
   const int64_t ok_interval = 200'000'000;
-  EXPECT_FALSE(decide_keyframe(o, 0.01, 5.0, 200, ok_interval).is_keyframe);
-  EXPECT_EQ(decide_keyframe(o, 0.3, 5.0, 200, ok_interval).reason, "pose change");
-  EXPECT_EQ(decide_keyframe(o, 0.01, 30.0, 200, ok_interval).reason, "parallax");
-  EXPECT_TRUE(decide_keyframe(o, 0.01, 5.0, 10, 0).is_keyframe);    // too few: even right away
-  EXPECT_FALSE(decide_keyframe(o, 0.3, 30.0, 200, 0).is_keyframe);  // too soon
+  const double big_change = 1.2 * o.pose_change, small_change = 0.5 * o.pose_change;
+  const double big_parallax = 1.2 * o.parallax_px, small_parallax = 0.5 * o.parallax_px;
+  EXPECT_FALSE(decide_keyframe(o, small_change, small_parallax, 200, ok_interval).is_keyframe);
+  EXPECT_EQ(decide_keyframe(o, big_change, small_parallax, 200, ok_interval).reason, "pose change");
+  EXPECT_EQ(decide_keyframe(o, small_change, big_parallax, 200, ok_interval).reason, "parallax");
+  // Too few tracked: even right away.
+  EXPECT_TRUE(decide_keyframe(o, small_change, small_parallax, 10, 0).is_keyframe);
+  EXPECT_FALSE(decide_keyframe(o, big_change, big_parallax, 200, 0).is_keyframe);  // too soon
   EXPECT_EQ(decide_keyframe(o, 0.0, 0.0, 200, o.max_interval_ns).reason, "interval");
 }
 

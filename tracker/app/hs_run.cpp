@@ -17,13 +17,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"Run the HS-SLAM tracker over a dataset in process"};
   std::string dataset, sim_path, config, out_dir = "out/run", descriptors;
-  double duration_s = 0.0;
+  double duration_s = 0.0, skip_s = 0.0;
   int64_t seed = -1;
   bool mono = false, verbose = false;
   auto* ds = app.add_option("--dataset", dataset, "EuRoC folder (root or mav0/)");
   app.add_option("--sim", sim_path, "simulate this scenario in memory instead")->excludes(ds);
   app.add_option("--duration", duration_s, "with --sim: override the duration (s)");
   app.add_option("--seed", seed, "with --sim: override the seed");
+  app.add_option("--skip", skip_s, "start the tracker this many seconds into the dataset (s)");
   app.add_option("--config", config, "tracker config (default: built-in EuRoC settings)");
   app.add_option("--descriptors", descriptors, "hybrid | every-frame (overrides the config)");
   app.add_flag("--mono", mono, "use cam0 only");
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     hs::OfflineRunOptions run_options;
     run_options.progress = true;
     run_options.verbose = verbose;
+    run_options.skip_ns = hs::s_to_ns(skip_s);
     hs::OfflineRunResult result;
     if (!dataset.empty()) {
       const hs::EurocReader reader(dataset);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "common/core/atomic_file.h"
@@ -50,11 +51,7 @@ Trajectory OfflineRunResult::estimate() const {
   Trajectory t;
   for (const FrameRecord& f : frames) {
     if (!f.accepted || f.state == TrackState::kInitialising) continue;
-    StampedPose p;
-    p.t_ns = f.t_ns;
-    p.T_w_b.linear() = f.nav.q_w_b.toRotationMatrix();
-    p.T_w_b.translation() = f.nav.p_w_b;
-    t.poses.push_back(p);
+    t.poses.push_back({f.t_ns, f.nav.T_w_b()});
   }
   return t;
 }
@@ -62,11 +59,7 @@ Trajectory OfflineRunResult::estimate() const {
 Trajectory OfflineRunResult::ground_truth_trajectory() const {
   Trajectory t;
   for (const NavState& s : ground_truth) {
-    StampedPose p;
-    p.t_ns = s.t_ns;
-    p.T_w_b.linear() = s.q_w_b.toRotationMatrix();
-    p.T_w_b.translation() = s.p_w_b;
-    t.poses.push_back(p);
+    t.poses.push_back({s.t_ns, s.T_w_b()});
   }
   return t;
 }
@@ -76,7 +69,11 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
   Tracker tracker(options);
   OfflineRunResult out;
   DatasetEvent e;
+  std::optional<int64_t> first_t_ns;
   while (source(e)) {
+    const int64_t t_ns = std::visit([](const auto& x) { return x.t_ns; }, e);
+    if (!first_t_ns) first_t_ns = t_ns;
+    if (t_ns < *first_t_ns + run_options.skip_ns && !std::holds_alternative<NavState>(e)) continue;
     if (const auto* imu = std::get_if<ImuSample>(&e)) {
       const ImuReject why = tracker.add_imu(*imu);
       if (why != ImuReject::kAccepted && run_options.verbose)
@@ -92,6 +89,8 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
       rec.method = r.method;
       rec.is_keyframe = r.is_keyframe;
       rec.tracked_points = r.tracked_points;
+      rec.map_id = r.map_id;
+      rec.quality = r.quality;
       rec.total_ms = r.total_ms;
       rec.stage_ms = r.stage_ms;
       rec.nav = r.nav;

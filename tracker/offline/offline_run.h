@@ -28,6 +28,8 @@ struct FrameRecord {
   TrackMethod method = TrackMethod::kNone;
   bool is_keyframe = false;
   int tracked_points = 0;
+  int32_t map_id = 0;
+  float quality = 0.0f;
   float total_ms = 0.0f;
   std::vector<std::pair<std::string, float>> stage_ms;
   NavState nav;
@@ -48,6 +50,9 @@ struct OfflineRunResult {
 struct OfflineRunOptions {
   bool progress = false;  // a progress line on stderr every 100 frames
   bool verbose = false;   // every tracker message on stderr
+  // IMU samples and frames of the first skip_ns of the dataset are not fed, so the tracker
+  // starts mid-sequence (e.g. already moving); ground truth is kept.
+  int64_t skip_ns = 0;
 };
 
 OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,

@@ -1,0 +1,272 @@
+#include "tracker/node/tracker_node.h"
+
+#include <time.h>
+#include <unistd.h>
+
+#include <exception>
+
+#include "common/lcm/convert.h"
+#include "common/lcm/decode.h"
+#include "hsslam/heartbeat_t.hpp"
+
+namespace hs {
+namespace {
+
+int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::string plural(int64_t n, const char* what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+
+}  // namespace
+
+TrackerNode::TrackerNode(lcm::LCM& lcm, const TrackerOptions& options)
+    : lcm_(lcm),
+      options_(options),
+      queue_(static_cast<size_t>(options.node.frame_queue_size)),
+      pose_imu_(options.imu, options.imu_buffer.keep_ns),
+      tracker_counters_(tracker_counters({}, {})) {
+  // Plain-function handlers: GCC 12 UBSan's vptr check breaks LCM's member-function dispatch.
+  subscriptions_.push_back(
+      lcm_.subscribeFunction(options_.channels.cam_stereo, &TrackerNode::on_frame, this));
+  subscriptions_.push_back(
+      lcm_.subscribeFunction(options_.channels.imu, &TrackerNode::on_imu, this));
+}
+
+TrackerNode::~TrackerNode() {
+  stop();
+  for (lcm::Subscription* s : subscriptions_) lcm_.unsubscribe(s);
+}
+
+void TrackerNode::start() {
+  if (started_) return;
+  started_ = true;
+  worker_ = std::thread([this] { run(); });
+  publish_heartbeat(hsslam::heartbeat_t::STARTING);
+  next_heartbeat_ns_ = monotonic_ns() + options_.node.heartbeat_period_ns;
+}
+
+void TrackerNode::stop() {
+  queue_.close();
+  if (!worker_.joinable()) return;
+  worker_.join();
+  publish_heartbeat(hsslam::heartbeat_t::STOPPING);
+}
+
+void TrackerNode::poll() {
+  const int64_t now = monotonic_ns();
+  if (!started_ || now < next_heartbeat_ns_) return;
+  next_heartbeat_ns_ = now + options_.node.heartbeat_period_ns;
+  std::optional<TrackState> state;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state = state_;
+  }
+  publish_heartbeat(!state                        ? hsslam::heartbeat_t::STARTING
+                    : *state == TrackState::kLost ? hsslam::heartbeat_t::DEGRADED
+                                                  : hsslam::heartbeat_t::OK);
+}
+
+NodeStats TrackerNode::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+std::vector<NamedCounter> TrackerNode::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<NamedCounter> all = tracker_counters_;
+  for (NamedCounter& c : node_counters(stats_)) all.push_back(std::move(c));
+  return all;
+}
+
+std::vector<NamedCounter> TrackerNode::node_counters(const NodeStats& s) const {
+  return {{"frames_received", s.frames_received},
+          {"frames_dropped_queue_full", s.frames_dropped},
+          {"bad_frame_messages", s.bad_frame_messages},
+          {"bad_imu_messages", s.bad_imu_messages},
+          {"imu_samples_received", s.imu_samples_received},
+          {"tracker_errors", s.tracker_errors},
+          {"pose_imu_published", s.pose_imu_published}};
+}
+
+// ---- receive thread -----------------------------------------------------------------------
+
+void TrackerNode::on_frame(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                           TrackerNode* self) {
+  self->handle_frame(rbuf->data, rbuf->data_size, channel);
+}
+
+void TrackerNode::on_imu(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                         TrackerNode* self) {
+  self->handle_imu(rbuf->data, rbuf->data_size, channel);
+}
+
+void TrackerNode::bad_message(int64_t NodeStats::*counter, const std::string& what) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++(stats_.*counter);
+  last_error_ = what;
+}
+
+void TrackerNode::handle_frame(const void* data, size_t size, const std::string& channel) {
+  // No exception may leave an LCM callback (it unwinds through C code).
+  StereoFrame frame;
+  try {
+    frame = frame_from_msg(decode_message<hsslam::stereo_frame_t>(data, size, channel), channel);
+  } catch (const std::exception& e) {
+    bad_message(&NodeStats::bad_frame_messages, e.what());
+    return;
+  }
+  const bool dropped = queue_.push_frame(std::move(frame));
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.frames_received;
+  stats_.frames_dropped += dropped;
+}
+
+void TrackerNode::handle_imu(const void* data, size_t size, const std::string& channel) {
+  std::vector<ImuSample> samples;
+  try {
+    samples = imu_batch_from_msg(decode_message<hsslam::imu_batch_t>(data, size, channel), channel);
+  } catch (const std::exception& e) {
+    bad_message(&NodeStats::bad_imu_messages, e.what());
+    return;
+  }
+  queue_.push_imu(samples);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.imu_samples_received += static_cast<int64_t>(samples.size());
+  }
+  publish_pose_imu(samples);
+}
+
+void TrackerNode::publish_pose_imu(const std::vector<ImuSample>& samples) {
+  std::optional<PoseAnchor> anchor;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    anchor.swap(new_anchor_);
+  }
+  if (anchor) pose_imu_.set_anchor(*anchor);
+  int64_t published = 0;
+  for (const ImuSample& s : samples) {
+    pose_imu_.add(s);
+    if (imu_seen_++ % options_.node.pose_imu_decimation != 0) continue;
+    const std::optional<NavState> x = pose_imu_.propagate(s.t_ns);
+    if (!x) continue;
+    const PoseAnchor& a = *pose_imu_.anchor();
+    // seq: the index of the IMU sample (in arrival order) the state is propagated to.
+    const hsslam::odometry_t msg =
+        odometry_to_msg(*x, imu_seen_ - 1, a.map_id, static_cast<int8_t>(a.state), a.quality);
+    lcm_.publish(options_.channels.pose_imu, &msg);
+    ++published;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.pose_imu_published += published;
+}
+
+// ---- tracking thread ----------------------------------------------------------------------
+
+void TrackerNode::run() {
+  Tracker tracker(options_);
+  NodeInput input;
+  while (queue_.pop(input)) {
+    if (auto* samples = std::get_if<std::vector<ImuSample>>(&input)) {
+      for (const ImuSample& s : *samples) tracker.add_imu(s);  // rejections: imu_counters()
+    } else {
+      track(tracker, std::get<StereoFrame>(input));
+    }
+  }
+}
+
+void TrackerNode::track(Tracker& tracker, const StereoFrame& frame) {
+  FrameResult r;
+  try {
+    r = tracker.track(frame);
+  } catch (const std::exception& e) {
+    bad_message(&NodeStats::tracker_errors,
+                "frame " + std::to_string(frame.seq) + ": tracker error: " + e.what());
+    return;
+  }
+  const bool has_state = r.accepted && r.state != TrackState::kInitialising;
+  if (has_state) {
+    const hsslam::odometry_t pose = pose_msg(r);
+    lcm_.publish(options_.channels.pose, &pose);
+  }
+  if (r.keyframe) {
+    const hsslam::keyframe_t kf = keyframe_msg(*r.keyframe, tracker.map(), r.map_id);
+    lcm_.publish(options_.channels.keyframe, &kf);
+  }
+  std::vector<NamedCounter> counters = tracker_counters(tracker.counters(), tracker.imu_counters());
+  std::string message = r.message;
+  NodeStats stats;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    tracker_counters_ = counters;
+    ++stats_.frames_tracked;
+    stats_.tracking_ms += r.total_ms;
+    stats_.poses_published += has_state;
+    stats_.keyframes_published += r.keyframe != nullptr;
+    if (has_state) {
+      new_anchor_ = PoseAnchor{r.nav, r.state, r.map_id, r.quality};
+      new_anchor_->nav.t_ns = r.t_ns;
+      state_ = r.state;
+    }
+    stats = stats_;
+  }
+  const std::string notes = status_notes();
+  if (!notes.empty()) message += (message.empty() ? "" : "; ") + notes;
+  for (NamedCounter& c : node_counters(stats)) counters.push_back(std::move(c));
+  const hsslam::tracker_status_t status = status_msg(r, counters, message);
+  lcm_.publish(options_.channels.tracker_status, &status);
+}
+
+std::string TrackerNode::status_notes() {
+  int64_t drops = 0, bad = 0;
+  std::string last_error;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    drops = stats_.frames_dropped;
+    bad = stats_.bad_frame_messages + stats_.bad_imu_messages + stats_.tracker_errors;
+    last_error = last_error_;
+  }
+  std::string notes;
+  if (drops > reported_drops_)
+    notes = plural(drops - reported_drops_, "oldest frame") +
+            " dropped: tracker queue full (total " + std::to_string(drops) + ")";
+  if (bad > reported_bad_)
+    notes += (notes.empty() ? "" : "; ") + plural(bad - reported_bad_, "bad input") +
+             " ignored, last: " + last_error;
+  reported_drops_ = drops;
+  reported_bad_ = bad;
+  return notes;
+}
+
+void TrackerNode::publish_heartbeat(int8_t state) {
+  hsslam::heartbeat_t hb;
+  hb.t_ns = monotonic_ns();
+  hb.process = "hs-tracker";
+  hb.pid = static_cast<int32_t>(::getpid());
+  hb.state = state;
+  const InputQueueDepth depth = queue_.depth();
+  hb.queue_names = {"frames", "imu_samples"};
+  hb.queue_depths = {static_cast<int32_t>(depth.frames), static_cast<int32_t>(depth.imu_samples)};
+  hb.num_queues = static_cast<int32_t>(hb.queue_names.size());
+  std::string last_error;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    hb.message =
+        state_ ? std::string("tracker ") + to_string(*state_) : "waiting for a tracked frame";
+    last_error = last_error_;
+  }
+  if (!last_error.empty()) hb.message += "; last bad input: " + last_error;
+  for (const auto& [name, value] : counters()) {
+    hb.counter_names.push_back(name);
+    hb.counter_values.push_back(value);
+  }
+  hb.num_counters = static_cast<int32_t>(hb.counter_names.size());
+  lcm_.publish(options_.channels.heartbeat, &hb);
+}
+
+}  // namespace hs
