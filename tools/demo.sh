@@ -20,10 +20,10 @@ command -v lcm-logplayer >/dev/null || { echo "demo: lcm-logplayer missing (libl
 PORT=$((20000 + RANDOM % 20000))
 URL="udpm://239.255.76.67:${PORT}?ttl=0&recv_buf_size=16777216"
 
-echo "== 1/4 convert $DATASET to an LCM log"
+echo "== 1/5 convert $DATASET to an LCM log"
 "$BIN/hs-euroc2lcm" --dataset "$DATASET" --out "$OUT/dataset.lcmlog"
 
-echo "== 2/4 replay with lcm-logplayer over $URL and record GROUND_TRUTH"
+echo "== 2/5 replay with lcm-logplayer over $URL and record GROUND_TRUTH"
 "$BIN/hs-record-trajectory" --channel GROUND_TRUTH --out "$OUT/replayed.tum" \
   --lcm-url "$URL" --idle-timeout 3 &
 recorder=$!
@@ -31,7 +31,7 @@ sleep 0.5
 lcm-logplayer -l "$URL" "$OUT/dataset.lcmlog"
 wait "$recorder"
 
-echo "== 3/4 evaluate the replayed trajectory against the dataset's ground truth"
+echo "== 3/5 evaluate the replayed trajectory against the dataset's ground truth"
 GT=""
 for f in "$DATASET"/mav0/state_groundtruth_estimate0/data.csv "$DATASET"/state_groundtruth_estimate0/data.csv; do
   if [ -f "$f" ]; then GT=$f; break; fi
@@ -39,7 +39,10 @@ done
 [ -n "$GT" ] || { echo "demo: $DATASET has no state_groundtruth_estimate0/data.csv" >&2; exit 1; }
 "$BIN/hs-eval" "$GT" "$OUT/replayed.tum" --align --json "$OUT/eval.json" --plot "$OUT/eval.png"
 
-echo "== 4/4 track a simulated 40 s room_mav flight (stereo + IMU) with hs-run"
+echo "== 4/5 track a simulated 40 s room_mav flight (stereo + IMU) with hs-run"
 "$BIN/hs-run" --sim config/sim/room_mav.yaml --out "$OUT/tracking"
+
+echo "== 5/5 benchmark: hybrid (ORB at keyframes only) vs every-frame ORB (paper Table 4)"
+"$BIN/hs-bench-tracker" --sim config/sim/room_mav.yaml --json "$OUT/bench.json"
 echo "demo: outputs in $OUT/ (replay: dataset.lcmlog, replayed.tum, eval.json, eval.png;"
-echo "      tracking: tracking/trajectory.tum, timing.csv, eval.json, eval.png)"
+echo "      tracking: tracking/trajectory.tum, timing.csv, eval.json, eval.png; bench.json)"

@@ -64,6 +64,17 @@ std::vector<std::optional<Eigen::Vector3d>> LocalMap::point_positions(const Keyf
   return out;
 }
 
+void LocalMap::rotate_world(const Eigen::Matrix3d& R_new_old) {
+  for (auto& [id, p] : points_) p.p_w = R_new_old * p.p_w;
+  for (const auto* list : {&window_, &database_})
+    for (const auto& kf : *list) {
+      kf->T_w_c0.linear() = R_new_old * kf->T_w_c0.linear();
+      kf->T_w_c0.translation() = R_new_old * kf->T_w_c0.translation();
+      kf->state = rotated(kf->state, R_new_old);
+      for (Eigen::Vector3d& p_w : kf->frozen_p_w) p_w = R_new_old * p_w;
+    }
+}
+
 void LocalMap::clear() {
   window_.clear();
   database_.clear();

@@ -77,6 +77,10 @@ class LocalMap {
     return window_.empty() ? nullptr : window_.back();
   }
 
+  // Re-expresses everything in a rotated world frame (p_w' = R_new_old p_w): points, keyframe
+  // poses and states, frozen positions. Used when the gravity direction is found after start.
+  void rotate_world(const Eigen::Matrix3d& R_new_old);
+
   void clear();
   // Moves every window keyframe to the database and drops all points (a new local map starts).
   void retire_window();

@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
 #include <stdexcept>
 #include <unordered_set>
 
 #include "common/imu/imu_residual.h"
 #include "common/imu/static_init.h"
+#include "common/imu/vi_alignment.h"
 #include "tracker/direct_patch.h"
 
 namespace hs {
@@ -83,6 +86,23 @@ NavState constant_velocity(const NavState& last, int64_t t_ns) {
   s.t_ns = t_ns;
   s.p_w_b += last.v_w * ns_to_s(t_ns - last.t_ns);
   return s;
+}
+
+// Whether the scene moved between two images: median optical flow of strong corners over
+// half a pixel (a static camera shows only noise).
+bool image_moved(const cv::Mat& previous, const cv::Mat& current) {
+  std::vector<cv::Point2f> p0, p1;
+  cv::goodFeaturesToTrack(previous, p0, 60, 0.01, 20.0);
+  if (p0.size() < 10) return false;
+  std::vector<uint8_t> ok;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(previous, current, p0, p1, ok, err);
+  std::vector<float> moved;
+  for (size_t i = 0; i < p0.size(); ++i)
+    if (ok[i]) moved.push_back(static_cast<float>(cv::norm(p1[i] - p0[i])));
+  if (moved.size() < 10) return true;  // most corners lost: it moved
+  std::nth_element(moved.begin(), moved.begin() + moved.size() / 2, moved.end());
+  return moved[moved.size() / 2] > 0.5f;
 }
 
 }  // namespace
@@ -168,8 +188,8 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   const ImuPreintegration pim = preintegrate_since_last(frame.t_ns);
   // An IMU gap longer than interpolation can bridge, or an IMU behind the camera (the window
   // ends extrapolated): this frame is tracked on vision alone from a constant-velocity guess.
-  const bool use_imu = imu_usable(pim);
-  if (!use_imu) {
+  const bool use_imu = imu_usable(pim) && !bootstrap_;
+  if (!imu_usable(pim)) {
     ++counters_.frames_without_imu;
     r.message = "IMU gap of " + std::to_string(pim.status().largest_gap_ns / 1000000) + " ms" +
                 (imu_behind_ns(frame.t_ns) > 0
@@ -221,12 +241,17 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
     accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
            have_features ? &features : nullptr, r);
     timer.stage("keyframe");
+    if (bootstrap_) advance_bootstrap(pim, r);
     return r;
   }
 
   // Failure check fired (Algorithm 1): relocalise with the reference keyframe (Eq. 7), then
   // globally (Eq. 8).
   std::string why = "tracking failed (" + opt.reason + ")";
+  if (bootstrap_) {
+    bootstrap_.reset();
+    why += "; vision-IMU alignment abandoned (gravity stays from the mean acceleration)";
+  }
   if (!have_features) features = builder_.orb().extract(frame.cam0);
   RelocResult reloc;
   if (auto ref = map_.latest_keyframe()) {
@@ -286,6 +311,49 @@ FrameResult Tracker::track(const StereoFrame& frame_in) {
   lf.nav = predicted;
   last_ = std::move(lf);
   return r;
+}
+
+void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
+  bootstrap_->poses.push_back({last_->t_ns, last_->nav.T_w_b()});
+  bootstrap_->pims.push_back(pim);
+  const int64_t span_ns = bootstrap_->poses.back().t_ns - bootstrap_->poses.front().t_ns;
+  r.state = TrackState::kInitialising;
+  if (span_ns < options_.vi_alignment_window_ns) {
+    r.message += (r.message.empty() ? "" : "; ") + std::string("aligning vision and IMU (") +
+                 std::to_string(span_ns / 1000000) + " of " +
+                 std::to_string(options_.vi_alignment_window_ns / 1000000) + " ms)";
+    return;
+  }
+  const ViAlignmentResult a = align_visual_inertial(bootstrap_->poses, bootstrap_->pims);
+  if (!a.ok) {
+    // Slide the window on: a later stretch may be better conditioned.
+    bootstrap_->poses.erase(bootstrap_->poses.begin());
+    bootstrap_->pims.erase(bootstrap_->pims.begin());
+    r.message += "; vision-IMU alignment failed (" + a.reason + "), retrying";
+    return;
+  }
+  const Eigen::Matrix3d& R = a.R_wg_w;
+  map_.rotate_world(R);
+  last_keyframe_T_w_c_.linear() = R * last_keyframe_T_w_c_.linear();
+  last_keyframe_T_w_c_.translation() = R * last_keyframe_T_w_c_.translation();
+  NavState nav = rotated(last_->nav, R);
+  nav.v_w = R * a.v_w.back();
+  nav.gyro_bias = a.gyro_bias;
+  nav.accel_bias = a.accel_bias;
+  last_->nav = nav;
+  Eigen::Matrix<double, 15, 1> sigma;
+  sigma << Eigen::Vector3d::Constant(1e-3), Eigen::Vector3d::Constant(1e-3),
+      Eigen::Vector3d::Constant(0.05), Eigen::Vector3d::Constant(0.005),
+      Eigen::Vector3d::Constant(a.accel_bias_estimated ? 0.05 : 0.2);
+  last_->information = information_from_sigmas(sigma);
+  last_->has_information = true;
+  bootstrap_.reset();
+  r.state = state_;
+  r.nav = nav;
+  r.message += (r.message.empty() ? "" : "; ") +
+               std::string("vision and IMU aligned: gravity tilt corrected by ") +
+               std::to_string(Eigen::AngleAxisd(R).angle() * 180.0 / M_PI) + " deg" +
+               (a.weak_excitation ? " (little excitation: accel bias held)" : "");
 }
 
 int64_t Tracker::imu_behind_ns(int64_t t_ns) const {
@@ -556,13 +624,20 @@ bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, Fram
       imu_.window(frame.t_ns - options_.static_init_window_ns, frame.t_ns);
   // Gravity needs a full window of IMU history (a static one gives the gyro bias too).
   const int64_t span = window.empty() ? 0 : frame.t_ns - window.front().t_ns;
+  const cv::Mat previous = init_previous_image_;
+  init_previous_image_ = frame.cam0;
   if (span < options_.static_init_window_ns) {
     r.message = "initialising: collecting IMU for the gravity direction (" +
                 std::to_string(span / 1000000) + " of " +
                 std::to_string(options_.static_init_window_ns / 1000000) + " ms)";
     return false;
   }
-  const StaticInitResult gravity = initialise_from_static(window, options_.imu);
+  StaticInitResult gravity = initialise_from_static(window, options_.imu);
+  // Constant velocity looks static to the IMU: the images tell.
+  if (gravity.ok && !previous.empty() && image_moved(previous, frame.cam0)) {
+    gravity.ok = false;
+    gravity.reason = "the IMU looks static but the image moves";
+  }
   NavState nav;
   nav.t_ns = frame.t_ns;
   nav.q_w_b = gravity.q_w_b;
@@ -572,9 +647,15 @@ bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, Fram
   // The first state's prior: see initial_sigmas.
   last_->information = information_from_sigmas(initial_sigmas(gravity.ok));
   last_->has_information = true;
-  r.message += gravity.ok ? "; static start: gravity and gyro bias from the IMU"
-                          : "; moving start (" + gravity.reason +
-                                "): gravity from the mean acceleration, velocity estimated";
+  if (gravity.ok) {
+    r.message += "; static start: gravity and gyro bias from the IMU";
+    return true;
+  }
+  // Moving: the mean acceleration is not gravity. Track on vision alone for a while, then
+  // align the visual poses with the IMU (gravity, velocity, biases) before reporting poses.
+  bootstrap_ = Bootstrap{{{frame.t_ns, nav.T_w_b()}}, {}};
+  r.state = TrackState::kInitialising;
+  r.message += "; moving start (" + gravity.reason + "): aligning vision and IMU";
   return true;
 }
 

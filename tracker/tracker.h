@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/dataset/stereo_frame.h"
+#include "common/imu/vi_alignment.h"
 #include "tracker/direct_align.h"
 #include "tracker/imu_buffer.h"
 #include "tracker/keyframe_builder.h"
@@ -69,7 +70,15 @@ class Tracker {
     std::vector<int64_t> point_ids;
   };
 
+  // Moving start: visual poses and the preintegrations between them, until the window spans
+  // options_.vi_alignment_window_ns and align_visual_inertial() finds gravity.
+  struct Bootstrap {
+    std::vector<TimedPose> poses;
+    std::vector<ImuPreintegration> pims;
+  };
+
   std::string validate(const StereoFrame& frame);
+  void advance_bootstrap(const ImuPreintegration& pim, FrameResult& r);
   bool initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& result);
   ImuPreintegration preintegrate_since_last(int64_t t_ns);
   Eigen::Isometry3d T_w_c0(const NavState& nav) const;
@@ -115,6 +124,8 @@ class Tracker {
   std::unordered_map<int64_t, Eigen::Vector3d> last_keyframe_rays_;
   int64_t lost_since_ns_ = -1;
   int64_t last_tracked_t_ns_ = 0;  // last frame tracked or relocalised
+  std::optional<Bootstrap> bootstrap_;
+  cv::Mat init_previous_image_;  // while initialising: to tell a static start from a moving one
 };
 
 }  // namespace hs

@@ -135,6 +135,7 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read_seconds("reinit_after_lost_s", o.reinit_after_lost_ns);
     s.read_seconds("max_camera_imu_offset_s", o.max_camera_imu_offset_ns);
     s.read_seconds("max_interpolated_imu_gap_s", o.max_interpolated_imu_gap_ns);
+    s.read_seconds("vi_alignment_window_s", o.vi_alignment_window_ns);
     s.read("prior_fading", o.prior_fading);
     if (!(o.prior_fading > 0.0 && o.prior_fading <= 1.0))
       s.fail("prior_fading", "must be in (0, 1]");

@@ -56,6 +56,8 @@ struct TrackerOptions {
   int64_t reinit_after_lost_ns = 500'000'000;      // then start a new local map in place
   int64_t max_camera_imu_offset_ns = 200'000'000;  // frame vs newest IMU sample
   int64_t static_init_window_ns = 1'000'000'000;
+  // Moving start: visual tracking this long before vision and IMU are aligned.
+  int64_t vi_alignment_window_ns = 1'000'000'000;
   // Longer IMU gaps (or IMU behind the camera by more) are not interpolated: vision alone.
   int64_t max_interpolated_imu_gap_ns = 50'000'000;
   RelocGateOptions reloc_gate;

@@ -29,6 +29,15 @@ struct NavState {
   }
 };
 
+// The same state in a world frame rotated by R_new_old (biases are body-frame: unchanged).
+inline NavState rotated(const NavState& x, const Eigen::Matrix3d& R_new_old) {
+  NavState y = x;
+  y.q_w_b = Eigen::Quaterniond(R_new_old * x.q_w_b.toRotationMatrix()).normalized();
+  y.p_w_b = R_new_old * x.p_w_b;
+  y.v_w = R_new_old * x.v_w;
+  return y;
+}
+
 constexpr double kNsPerSec = 1e9;
 inline double ns_to_s(int64_t t_ns) {
   return static_cast<double>(t_ns) * 1e-9;
