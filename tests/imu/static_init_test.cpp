@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "common/core/csv.h"
+#include "common/dataset/euroc_csv.h"
 #include "common/imu/so3.h"
 #include "tests/imu/analytic_motion.h"
 
@@ -14,21 +14,6 @@ namespace hs {
 namespace {
 
 const std::string kStatic = HS_SOURCE_DIR "/../shared/data/euroc/V1_01_static_stereo/mav0";
-
-std::vector<ImuSample> load_imu(const std::string& path) {
-  CsvReader csv(path);
-  std::vector<ImuSample> out;
-  CsvRow row;
-  while (csv.next(row)) {
-    csv.require_fields(row, 7);
-    ImuSample s;
-    s.t_ns = csv.int64_at(row, 0);
-    s.gyro = {csv.double_at(row, 1), csv.double_at(row, 2), csv.double_at(row, 3)};
-    s.accel = {csv.double_at(row, 4), csv.double_at(row, 5), csv.double_at(row, 6)};
-    out.push_back(s);
-  }
-  return out;
-}
 
 double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / 3.14159265358979323846;
@@ -42,19 +27,14 @@ TEST(ImuStaticInit, RealEurocStaticWindow) {
   }
   // Ground truth: orientation and gyro bias at the start, and the span it covers (the MAV sits
   // on the ground with its motors running; the IMU file goes on for a second after it).
-  CsvReader gt(gt_path);
-  CsvRow row;
-  ASSERT_TRUE(gt.next(row));
-  gt.require_fields(row, 17);
-  const int64_t gt_begin = gt.int64_at(row, 0);
-  const Eigen::Quaterniond q_w_b(gt.double_at(row, 4), gt.double_at(row, 5), gt.double_at(row, 6),
-                                 gt.double_at(row, 7));
-  const Eigen::Vector3d bw(gt.double_at(row, 11), gt.double_at(row, 12), gt.double_at(row, 13));
-  int64_t gt_end = gt_begin;
-  while (gt.next(row)) gt_end = gt.int64_at(row, 0);
+  const std::vector<NavState> gt = read_ground_truth_csv(gt_path);
+  ASSERT_FALSE(gt.empty());
+  const int64_t gt_begin = gt.front().t_ns, gt_end = gt.back().t_ns;
+  const Eigen::Quaterniond q_w_b = gt.front().q_w_b;
+  const Eigen::Vector3d bw = gt.front().gyro_bias;
 
   std::vector<ImuSample> window;
-  for (const ImuSample& s : load_imu(imu_path)) {
+  for (const ImuSample& s : read_imu_csv(imu_path)) {
     if (s.t_ns >= gt_begin && s.t_ns <= gt_end) window.push_back(s);
   }
   ASSERT_GT(window.size(), 900u);

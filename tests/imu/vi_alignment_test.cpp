@@ -9,7 +9,7 @@
 #include <limits>
 #include <random>
 
-#include "common/core/csv.h"
+#include "common/dataset/euroc_csv.h"
 #include "common/imu/so3.h"
 #include "tests/imu/analytic_motion.h"
 
@@ -292,41 +292,6 @@ TEST(ViAlignment, LinearisationBiasOfInputDoesNotMatter) {
 
 const std::string kEuroc = HS_SOURCE_DIR "/../shared/data/euroc";
 
-std::vector<ImuSample> load_imu(const std::string& path) {
-  CsvReader csv(path);
-  std::vector<ImuSample> out;
-  CsvRow row;
-  while (csv.next(row)) {
-    csv.require_fields(row, 7);
-    ImuSample s;
-    s.t_ns = csv.int64_at(row, 0);
-    s.gyro = {csv.double_at(row, 1), csv.double_at(row, 2), csv.double_at(row, 3)};
-    s.accel = {csv.double_at(row, 4), csv.double_at(row, 5), csv.double_at(row, 6)};
-    out.push_back(s);
-  }
-  return out;
-}
-
-std::vector<NavState> load_ground_truth(const std::string& path) {
-  CsvReader csv(path);
-  std::vector<NavState> out;
-  CsvRow row;
-  while (csv.next(row)) {
-    csv.require_fields(row, 17);
-    NavState s;
-    s.t_ns = csv.int64_at(row, 0);
-    s.p_w_b = {csv.double_at(row, 1), csv.double_at(row, 2), csv.double_at(row, 3)};
-    s.q_w_b = Eigen::Quaterniond(csv.double_at(row, 4), csv.double_at(row, 5),
-                                 csv.double_at(row, 6), csv.double_at(row, 7))
-                  .normalized();
-    s.v_w = {csv.double_at(row, 8), csv.double_at(row, 9), csv.double_at(row, 10)};
-    s.gyro_bias = {csv.double_at(row, 11), csv.double_at(row, 12), csv.double_at(row, 13)};
-    s.accel_bias = {csv.double_at(row, 14), csv.double_at(row, 15), csv.double_at(row, 16)};
-    out.push_back(s);
-  }
-  return out;
-}
-
 // Real EuRoC V1_02 flight: ground-truth poses (Vicon) at 20 Hz stand in for stereo vision, in
 // the tilted vision world, with the real IMU.
 TEST(ViAlignment, RealEurocFlightWithGroundTruthPoses) {
@@ -335,8 +300,8 @@ TEST(ViAlignment, RealEurocFlightWithGroundTruthPoses) {
   if (!std::filesystem::exists(gt_path) || !std::filesystem::exists(imu_path)) {
     GTEST_SKIP() << "EuRoC V1_02 ground truth / IMU not found under " << kEuroc;
   }
-  const std::vector<NavState> gt = load_ground_truth(gt_path);
-  const std::vector<ImuSample> imu = load_imu(imu_path);
+  const std::vector<NavState> gt = read_ground_truth_csv(gt_path);
+  const std::vector<ImuSample> imu = read_imu_csv(imu_path);
   const Eigen::Isometry3d T_v_w = vision_from_world();
   ViAlignmentOptions options;
   options.vision_position_sigma_m = 0.002;

@@ -1,12 +1,12 @@
 // hs-record-trajectory: record the poses of one LCM channel into a TUM file (see --help).
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
 #include <string>
 
+#include "common/core/stop_signal.h"
 #include "common/lcm/lcm_connection.h"
 #include "common/lcm/pose_recorder.h"
 
@@ -21,11 +21,6 @@ count of the messages heard on every channel. Demo:
   hs-record-trajectory --channel GROUND_TRUTH --out gt.tum --idle-timeout 3 &
   lcm-logplayer V1_01.lcmlog     # LCM's default URL: same multicast group and port
 Exit status: 0 when the file was written, 1 on errors or when no pose arrived.)";
-
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
 
 // A plain function, not a member handler: GCC 12's UBSan vptr check miscompiles LCM's
 // pointer-to-member dispatch (the sanitizer CI job crashes with lcm::LCM::subscribe).
@@ -64,10 +59,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;  // no SA_RESTART: the LCM wait returns at once
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  hs::install_stop_signals();
 
   try {
     const std::string warning = hs::receive_buffer_warning(url);
@@ -82,8 +74,9 @@ int main(int argc, char** argv) {
     using Clock = std::chrono::steady_clock;
     auto last_pose = Clock::now();
     size_t poses_seen = 0;
-    while (!g_stop) {
-      if (lcm->handleTimeout(100) < 0 && !g_stop) throw std::runtime_error("LCM receive failed");
+    while (!hs::stop_requested()) {
+      if (lcm->handleTimeout(100) < 0 && !hs::stop_requested())
+        throw std::runtime_error("LCM receive failed");
       if (recorder.poses().size() != poses_seen) {
         poses_seen = recorder.poses().size();
         last_pose = Clock::now();

@@ -3,7 +3,6 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -11,6 +10,7 @@
 #include <string>
 
 #include "common/calib/camera_calib.h"
+#include "common/core/stop_signal.h"
 #include "common/lcm/lcm_connection.h"
 #include "common/sim/scenario.h"
 #include "tracker/node/tracker_node.h"
@@ -28,11 +28,6 @@ Demo (hs-sim output replayed at sensor rate):
   hs-record-trajectory --channel POSE --out pose.tum --idle-timeout 5 &
   lcm-logplayer room_mav.lcmlog
 Exit status: 0 after a clean stop, 1 on bad configuration or LCM errors.)";
-
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
 
 double cpu_seconds() {
   rusage u{};
@@ -70,10 +65,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;  // no SA_RESTART: the LCM wait returns at once
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  hs::install_stop_signals();
 
   try {
     hs::TrackerOptions options =
@@ -96,8 +88,9 @@ int main(int argc, char** argv) {
                 options.node.frame_queue_size);
     std::fflush(stdout);  // tells a supervising script that the subscriptions are live
 
-    while (!g_stop) {
-      if (lcm->handleTimeout(100) < 0 && !g_stop) throw std::runtime_error("LCM receive failed");
+    while (!hs::stop_requested()) {
+      if (lcm->handleTimeout(100) < 0 && !hs::stop_requested())
+        throw std::runtime_error("LCM receive failed");
       node.poll();
     }
     node.stop();
