@@ -23,6 +23,7 @@
 
 namespace hs {
 
+// Cumulative; every field is published in TRACKER_STATUS (tracker/node/node_messages.cpp).
 struct TrackerCounters {
   int64_t frames = 0;
   int64_t keyframes = 0;

@@ -263,12 +263,13 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   int tracked = 0, lost = 0;
   count_states(result, tracked, lost);
   o << "frames " << result.frames.size() << " (tracked " << tracked << ", lost " << lost
-    << "), keyframes " << c.keyframes << ", relocalisations " << c.relocalisations << ", new maps "
+    << "), keyframes " << c.keyframes << ", relocalisations " << c.relocalisations
+    << " (rejected by the IMU gate " << c.relocalisations_rejected << "), new maps "
     << c.reinitialisations << "\n";
   o << "rejected frames: out-of-order " << c.rejected_out_of_order << ", bad image "
     << c.rejected_bad_image << ", IMU clock " << c.rejected_clock_offset
     << "; missing right images " << c.missing_right_image << "; IMU gaps bridged " << c.imu_gaps
-    << "\n";
+    << " (frames on vision alone " << c.frames_without_imu << ")\n";
   o << timing_text(summarise_timing(result));
   std::string eval_error;
   const std::optional<EvalResult> eval = try_evaluate(result, eval_error);
