@@ -1,0 +1,114 @@
+#pragma once
+// The mapper's keyframe graph and map point store: keyframes, the points they observe,
+// covisibility weights (number of shared points), and the tracker's temporal chain for IMU
+// factors. Tolerates a lossy, unordered KEYFRAME stream (UDP multicast):
+// - a keyframe id seen before (even if since removed) is ignored and counted;
+// - a keyframe whose previous keyframe is absent is inserted and counted; its IMU link appears
+//   if the previous one arrives late (links are derived from prev ids when queried);
+// - map_id: each map id is its own graph component. A keyframe only gains covisibility with
+//   keyframes of its own map id, windows and fixed sets stay inside it, and the IMU chain is
+//   broken where the map id changes (the tracker stated a pose jump there). Point ids are unique
+//   across map ids, so a point seen from two map ids is one point with observations from both.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "mapper/mapper_keyframe.h"
+
+namespace hs {
+
+struct KeyframeGraphOptions {
+  size_t window_covisible = 10;  // local window: the reference + this many most covisible
+  int window_min_shared = 1;     // ... sharing at least this many points with it
+};
+
+struct Observation {
+  int64_t keyframe_id = -1;
+  int keypoint = -1;  // index into that keyframe's keypoints
+};
+
+struct MapperPoint {
+  int64_t id = -1;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();  // owned by the mapper after creation
+  std::vector<Observation> observations;
+  Descriptor descriptor{};  // the observation's with the least median distance to the others
+  int64_t first_keyframe_id = -1;
+};
+
+// Problems seen in the input stream.
+struct KeyframeGraphCounters {
+  int64_t inserted = 0;
+  int64_t duplicates = 0;    // id seen before: ignored
+  int64_t out_of_order = 0;  // arrived after a keyframe with a larger id
+  int64_t missing_prev = 0;  // previous keyframe absent on arrival (lost, late or removed)
+  int64_t forks = 0;         // previous keyframe already has a successor: link dropped
+  int64_t map_changes = 0;   // map id differs from the previously inserted keyframe's
+};
+
+// Keyframes and points a local bundle adjustment works on (ids ascending).
+struct LocalWindow {
+  std::vector<int64_t> keyframes;        // optimised: the reference and its covisible set
+  std::vector<int64_t> points;           // observed by `keyframes`
+  std::vector<int64_t> fixed_keyframes;  // also observe `points`, held fixed
+};
+
+class KeyframeGraph {
+ public:
+  enum class InsertResult { kInserted, kDuplicate };
+
+  explicit KeyframeGraph(const KeyframeGraphOptions& options = {}) : options_(options) {}
+
+  // `kf` must be valid as keyframe_from_msg guarantees. Points unknown to the graph are created
+  // at the message's position; known points only gain the observation.
+  InsertResult insert(MapperKeyframe kf);
+  // Both return false if the id is absent. Removing a keyframe drops points left unobserved
+  // and relinks its successor to its predecessor, prepending its IMU samples.
+  bool remove_keyframe(int64_t id);
+  bool remove_point(int64_t id);
+
+  const MapperKeyframe* keyframe(int64_t id) const;
+  const MapperPoint* point(int64_t id) const;
+  std::vector<int64_t> keyframe_ids() const;  // ascending
+  size_t num_keyframes() const { return keyframes_.size(); }
+  size_t num_points() const { return points_.size(); }
+  const KeyframeGraphCounters& counters() const { return counters_; }
+
+  // Optimised values written back (ids must exist).
+  void set_state(int64_t keyframe_id, const NavState& state);
+  void set_position(int64_t point_id, const Eigen::Vector3d& p_w);
+
+  int shared_points(int64_t a, int64_t b) const;
+  // Up to n keyframes sharing points with `id`, most shared first (ties: newest first).
+  std::vector<int64_t> most_covisible(int64_t id, size_t n) const;
+  LocalWindow local_window(int64_t id) const;
+
+  // The previous keyframe if an IMU factor may join the two: it is present, of the same map
+  // id, and `id` has IMU samples, none but the first before the previous keyframe's time.
+  std::optional<int64_t> imu_predecessor(int64_t id) const;
+  // The keyframe whose imu_predecessor is `id`, if any.
+  std::optional<int64_t> imu_successor(int64_t id) const;
+
+ private:
+  struct Node {
+    MapperKeyframe kf;
+    std::unordered_map<int64_t, int> covisibility;  // other keyframe id -> shared points
+  };
+
+  const Node& node(int64_t id) const;
+  void add_weight(int64_t a, int64_t b, int delta);
+  void update_descriptor(MapperPoint& p) const;
+
+  KeyframeGraphOptions options_;
+  std::unordered_map<int64_t, Node> keyframes_;
+  std::unordered_map<int64_t, MapperPoint> points_;
+  std::unordered_map<int64_t, int64_t> successor_;  // prev id -> the keyframe naming it prev
+  std::unordered_set<int64_t> seen_ids_;
+  int64_t max_id_ = -1;
+  std::optional<int32_t> last_map_id_;
+  KeyframeGraphCounters counters_;
+};
+
+}  // namespace hs

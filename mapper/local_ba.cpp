@@ -1,0 +1,45 @@
+#include "mapper/local_ba.h"
+
+#include <chrono>
+
+#include "mapper/local_ba_problem.h"
+
+namespace hs {
+
+LocalBundleAdjuster::LocalBundleAdjuster(const StereoCalib& calib, const LocalBaOptions& options)
+    : calib_(calib), options_(options) {}
+
+LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  const auto elapsed_ms = [&] {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  const LocalBaIndex index = resolve_local_ba_input(input);
+  LocalBaProblem problem(calib_, options_, input, index);
+
+  LocalBaResult result;
+  const int num_rounds = options_.reject_outliers ? 2 : 1;
+  for (int round = 0; round < num_rounds; ++round) {
+    const double remaining_ms = options_.time_budget_ms - elapsed_ms();
+    if (remaining_ms <= 0.0) break;
+    if (round > 0) problem.drop_outliers(options_.chi2_threshold);
+    if (!problem.has_terms()) break;
+    const ceres::Solver::Summary summary = problem.solve(remaining_ms);
+    if (round == 0) result.stats.initial_cost = summary.initial_cost;
+    result.stats.final_cost = summary.final_cost;
+    result.stats.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+    ++result.stats.rounds;
+  }
+
+  problem.estimate(&result.keyframes, &result.points);
+  result.outliers.resize(input.observations.size());
+  for (size_t k = 0; k < result.outliers.size(); ++k) {
+    result.outliers[k] = !(problem.chi2(k) <= options_.chi2_threshold);
+    result.stats.num_outliers += result.outliers[k];
+  }
+  result.stats.time_ms = elapsed_ms();
+  return result;
+}
+
+}  // namespace hs

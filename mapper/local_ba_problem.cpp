@@ -1,0 +1,219 @@
+#include "mapper/local_ba_problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "mapper/bias_walk_cost.h"
+#include "mapper/imu_cost.h"
+
+namespace hs {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("LocalBundleAdjuster: " + what);
+}
+
+bool finite(const NavState& s) {
+  return s.p_w_b.allFinite() && s.q_w_b.coeffs().allFinite() && s.q_w_b.norm() > 0.5 &&
+         s.v_w.allFinite() && s.gyro_bias.allFinite() && s.accel_bias.allFinite();
+}
+
+// Index of every id; throws on duplicates.
+template <class T>
+std::unordered_map<int64_t, size_t> index_ids(const std::vector<T>& items, const char* kind) {
+  std::unordered_map<int64_t, size_t> index;
+  for (size_t k = 0; k < items.size(); ++k) {
+    require(index.emplace(items[k].id, k).second,
+            std::string("duplicate ") + kind + " id " + std::to_string(items[k].id));
+  }
+  return index;
+}
+
+size_t lookup(const std::unordered_map<int64_t, size_t>& index, int64_t id,
+              const std::string& who) {
+  const auto it = index.find(id);
+  require(it != index.end(), who + " refers to unknown id " + std::to_string(id));
+  return it->second;
+}
+
+ceres::Problem::Options borrowing_problem_options() {
+  ceres::Problem::Options o;
+  o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  o.enable_fast_removal = true;
+  return o;
+}
+
+}  // namespace
+
+LocalBaIndex resolve_local_ba_input(const LocalBaInput& in) {
+  const auto kf_index = index_ids(in.keyframes, "keyframe");
+  const auto pt_index = index_ids(in.points, "point");
+  for (const BaKeyframe& kf : in.keyframes) {
+    require(finite(kf.state), "keyframe " + std::to_string(kf.id) + " has a non-finite state");
+  }
+  for (const BaPoint& pt : in.points) {
+    require(pt.p_w.allFinite(), "point " + std::to_string(pt.id) + " is not finite");
+  }
+  LocalBaIndex index;
+  for (size_t k = 0; k < in.observations.size(); ++k) {
+    const BaObservation& obs = in.observations[k];
+    const std::string who = "observation " + std::to_string(k);
+    index.obs_keyframe.push_back(lookup(kf_index, obs.keyframe_id, who));
+    index.obs_point.push_back(lookup(pt_index, obs.point_id, who));
+    require(obs.camera == 0 || obs.camera == 1, who + " has camera index not 0 or 1");
+    require(obs.uv.allFinite(), who + " has a non-finite pixel");
+    require(std::isfinite(obs.sigma_px) && obs.sigma_px > 0.0, who + " has sigma_px <= 0");
+  }
+  for (size_t k = 0; k < in.imu_factors.size(); ++k) {
+    const BaImuFactor& f = in.imu_factors[k];
+    const std::string who = "IMU factor " + std::to_string(k);
+    const size_t i = lookup(kf_index, f.keyframe_i, who);
+    const size_t j = lookup(kf_index, f.keyframe_j, who);
+    require(f.pim.t0_ns() == in.keyframes[i].state.t_ns &&
+                f.pim.t1_ns() == in.keyframes[j].state.t_ns && j != i,
+            who + " does not span its keyframes' times");
+    index.imu_pairs.emplace_back(i, j);
+  }
+  return index;
+}
+
+LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& options,
+                               const LocalBaInput& input, const LocalBaIndex& index)
+    : options_(options),
+      input_(input),
+      index_(index),
+      pose_(input.keyframes.size()),
+      speed_bias_(input.keyframes.size()),
+      huber_(std::sqrt(options.chi2_threshold)),
+      problem_(borrowing_problem_options()) {
+  for (size_t k = 0; k < input.keyframes.size(); ++k) {
+    state_to_blocks(input.keyframes[k].state, pose_[k].data(), speed_bias_[k].data());
+    problem_.AddParameterBlock(pose_[k].data(), kPoseSize, &pose_manifold_);
+  }
+  for (const BaPoint& pt : input.points) point_.push_back({pt.p_w.x(), pt.p_w.y(), pt.p_w.z()});
+  add_visual_terms(calib);
+  add_inertial_terms();
+  fix_gauge();
+  configure_solver();
+}
+
+void LocalBaProblem::add_visual_terms(const StereoCalib& calib) {
+  const RigCamera cameras[2] = {RigCamera(calib.cam0), RigCamera(calib.cam1)};
+  const size_t n = input_.observations.size();
+  reprojection_.resize(n);
+  reprojection_block_.assign(n, nullptr);
+  for (size_t k = 0; k < n; ++k) {
+    const BaObservation& obs = input_.observations[k];
+    reprojection_[k] = std::make_unique<ReprojectionCost>(cameras[obs.camera], obs.uv, obs.sigma_px,
+                                                          options_.min_depth_m);
+    if (!std::isfinite(chi2(k))) continue;
+    reprojection_block_[k] = problem_.AddResidualBlock(reprojection_[k].get(), &huber_,
+                                                       pose_[index_.obs_keyframe[k]].data(),
+                                                       point_[index_.obs_point[k]].data());
+  }
+  for (size_t k = 0; k < input_.points.size(); ++k) {
+    if (input_.points[k].fixed && problem_.HasParameterBlock(point_[k].data())) {
+      problem_.SetParameterBlockConstant(point_[k].data());
+    }
+  }
+}
+
+void LocalBaProblem::add_inertial_terms() {
+  for (size_t k = 0; k < input_.imu_factors.size(); ++k) {
+    const auto [i, j] = index_.imu_pairs[k];
+    const ImuPreintegration& pim = input_.imu_factors[k].pim;
+    inertial_.push_back(std::make_unique<ImuCost>(pim, options_.g_w));
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, pose_[i].data(),
+                              speed_bias_[i].data(), pose_[j].data(), speed_bias_[j].data());
+    inertial_.push_back(std::make_unique<BiasWalkCost>(pim));
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, speed_bias_[i].data(),
+                              speed_bias_[j].data());
+  }
+}
+
+void LocalBaProblem::fix_gauge() {
+  const std::vector<BaKeyframe>& kfs = input_.keyframes;
+  bool any_fixed = false;
+  for (size_t k = 0; k < kfs.size(); ++k) {
+    if (!kfs[k].fixed) continue;
+    any_fixed = true;
+    problem_.SetParameterBlockConstant(pose_[k].data());
+    if (problem_.HasParameterBlock(speed_bias_[k].data())) {
+      problem_.SetParameterBlockConstant(speed_bias_[k].data());
+    }
+  }
+  if (any_fixed || kfs.empty()) return;
+  const auto oldest = std::min_element(
+      kfs.begin(), kfs.end(),
+      [](const BaKeyframe& a, const BaKeyframe& b) { return a.state.t_ns < b.state.t_ns; });
+  problem_.SetParameterBlockConstant(pose_[static_cast<size_t>(oldest - kfs.begin())].data());
+}
+
+void LocalBaProblem::configure_solver() {
+  solver_options_.max_num_iterations = options_.iterations_per_round;
+  solver_options_.num_threads = options_.num_threads;
+  solver_options_.logging_type = ceres::SILENT;
+  // Points (the only 3-dim blocks) are eliminated first; keyframe blocks form the reduced
+  // system. Ceres switches to a non-Schur solver itself if no point remains free.
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  std::vector<double*> blocks;
+  problem_.GetParameterBlocks(&blocks);
+  bool has_points = false;
+  for (double* block : blocks) {
+    const bool is_point = problem_.ParameterBlockSize(block) == 3;
+    has_points = has_points || is_point;
+    ordering->AddElementToGroup(block, is_point ? 0 : 1);
+  }
+  if (has_points) {
+    solver_options_.linear_solver_type = ceres::DENSE_SCHUR;
+    solver_options_.linear_solver_ordering = ordering;
+  } else {
+    solver_options_.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  }
+}
+
+ceres::Solver::Summary LocalBaProblem::solve(double time_limit_ms) {
+  solver_options_.max_solver_time_in_seconds = time_limit_ms * 1e-3;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options_, &problem_, &summary);
+  return summary;
+}
+
+double LocalBaProblem::chi2(size_t k) const {
+  const double* parameters[2] = {pose_[index_.obs_keyframe[k]].data(),
+                                 point_[index_.obs_point[k]].data()};
+  Eigen::Vector2d r;
+  if (!reprojection_[k]->Evaluate(parameters, r.data(), nullptr)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return r.squaredNorm();
+}
+
+void LocalBaProblem::drop_outliers(double chi2_threshold) {
+  for (size_t k = 0; k < reprojection_block_.size(); ++k) {
+    if (reprojection_block_[k] != nullptr && !(chi2(k) <= chi2_threshold)) {
+      problem_.RemoveResidualBlock(reprojection_block_[k]);
+      reprojection_block_[k] = nullptr;
+    }
+  }
+}
+
+void LocalBaProblem::estimate(std::vector<BaKeyframe>* keyframes,
+                              std::vector<BaPoint>* points) const {
+  *keyframes = input_.keyframes;
+  for (size_t k = 0; k < keyframes->size(); ++k) {
+    blocks_to_state(pose_[k].data(), speed_bias_[k].data(), &(*keyframes)[k].state);
+  }
+  *points = input_.points;
+  for (size_t k = 0; k < points->size(); ++k) {
+    (*points)[k].p_w = Eigen::Map<const Eigen::Vector3d>(point_[k].data());
+  }
+}
+
+}  // namespace hs

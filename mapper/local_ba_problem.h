@@ -1,0 +1,70 @@
+#pragma once
+// The Ceres problem of one local bundle adjustment (mapper/local_ba.h): input validation,
+// parameter blocks, cost terms, gauge, and the Schur ordering (points eliminated first).
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "mapper/local_ba.h"
+#include "mapper/pose_manifold.h"
+#include "mapper/reprojection_cost.h"
+
+namespace hs {
+
+// The input's cross references resolved to indices.
+struct LocalBaIndex {
+  std::vector<size_t> obs_keyframe, obs_point;       // per observation
+  std::vector<std::pair<size_t, size_t>> imu_pairs;  // per IMU factor: keyframes i, j
+};
+
+// Validates the input (see LocalBundleAdjuster::optimise) and resolves its ids.
+LocalBaIndex resolve_local_ba_input(const LocalBaInput& input);
+
+class LocalBaProblem {
+ public:
+  // `input` and `index` must outlive the problem. Observations that cannot be projected at the
+  // initial estimate are left out.
+  LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& options, const LocalBaInput& input,
+                 const LocalBaIndex& index);
+
+  bool has_terms() const { return problem_.NumResidualBlocks() > 0; }
+  // At most options.iterations_per_round iterations and time_limit_ms.
+  ceres::Solver::Summary solve(double time_limit_ms);
+  // Whitened squared reprojection error of observation k at the current estimate; infinity
+  // when it cannot be projected.
+  double chi2(size_t k) const;
+  // Removes the observations with chi2 above the threshold from the problem.
+  void drop_outliers(double chi2_threshold);
+  // The current estimate, in the input's order.
+  void estimate(std::vector<BaKeyframe>* keyframes, std::vector<BaPoint>* points) const;
+
+ private:
+  void add_visual_terms(const StereoCalib& calib);
+  void add_inertial_terms();
+  void fix_gauge();
+  void configure_solver();
+
+  const LocalBaOptions& options_;
+  const LocalBaInput& input_;
+  const LocalBaIndex& index_;
+  std::vector<std::array<double, kPoseSize>> pose_;
+  std::vector<std::array<double, kSpeedBiasSize>> speed_bias_;
+  std::vector<std::array<double, 3>> point_;
+  // The problem borrows the cost functions, loss and manifold, so that removed residual blocks
+  // can still be evaluated for the final outlier flags.
+  PoseManifold pose_manifold_;
+  ceres::HuberLoss huber_;
+  std::vector<std::unique_ptr<ReprojectionCost>> reprojection_;
+  std::vector<ceres::ResidualBlockId> reprojection_block_;  // null when not in the problem
+  std::vector<std::unique_ptr<ceres::CostFunction>> inertial_;
+  ceres::Problem problem_;
+  ceres::Solver::Options solver_options_;
+};
+
+}  // namespace hs

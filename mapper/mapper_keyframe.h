@@ -1,0 +1,48 @@
+#pragma once
+// Plain data of a keyframe as the mapper holds it (see keyframe_from_msg.h for the checks).
+#include <Eigen/Core>
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "common/core/types.h"
+
+namespace hs {
+
+using Descriptor = std::array<uint8_t, 32>;  // ORB, 256 bits
+
+// Hamming distance between two descriptors (0..256).
+inline int hamming_distance(const Descriptor& a, const Descriptor& b) {
+  int d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += static_cast<int>(std::bitset<8>(a[i] ^ b[i]).count());
+  return d;
+}
+
+struct MapperKeypoint {
+  float u = 0.f;  // raw (distorted) cam0 pixel
+  float v = 0.f;
+  float u_right = -1.f;  // matched cam1 column, -1 if none
+  float depth = -1.f;    // metres in cam0, -1 if unknown
+  int octave = 0;
+  float angle = 0.f;      // degrees
+  int64_t point_id = -1;  // observed map point, -1 if none
+};
+
+struct MapperKeyframe {
+  int64_t id = -1;
+  int32_t map_id = 0;
+  int64_t prev_id = -1;  // the tracker's previous keyframe, -1 for the first of a map
+  NavState state;        // state.t_ns is the keyframe time
+  std::vector<MapperKeypoint> keypoints;
+  std::vector<Descriptor> descriptors;  // one per keypoint
+  // Positions of the observed points as the tracker sent them (keyed by point id).
+  std::unordered_map<int64_t, Eigen::Vector3d> point_positions;
+  // Strictly increasing samples covering (previous keyframe time, state.t_ns]; the first may lie
+  // at or before the previous keyframe time and the last at or after state.t_ns, so both ends
+  // can be interpolated.
+  std::vector<ImuSample> imu;
+};
+
+}  // namespace hs
