@@ -55,6 +55,7 @@ void TrackerNode::stop() {
   if (!worker_.joinable()) return;
   worker_.join();
   publish_heartbeat(hsslam::heartbeat_t::STOPPING);
+  started_ = false;  // STOPPING is the last heartbeat: poll() publishes no more
 }
 
 void TrackerNode::poll() {
