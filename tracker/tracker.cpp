@@ -722,16 +722,4 @@ void Tracker::remember_keyframe_view(int64_t t_ns, const Eigen::Isometry3d& T_w_
     last_keyframe_rays_[t.point_id] = options_.calib.cam0.intrinsics.unproject(t.uv);
 }
 
-std::optional<NavState> Tracker::propagate(int64_t t_ns) const {
-  if (!last_ || state_ == TrackState::kInitialising || t_ns < last_->t_ns) return std::nullopt;
-  ImuBias bias;
-  bias.gyro = last_->nav.gyro_bias;
-  bias.accel = last_->nav.accel_bias;
-  const ImuPreintegration pim =
-      preintegrate(imu_.window(last_->t_ns, t_ns), last_->t_ns, t_ns, bias, options_.imu);
-  NavState s = predict(last_->nav, pim, default_gravity_w());
-  s.t_ns = t_ns;
-  return s;
-}
-
 }  // namespace hs

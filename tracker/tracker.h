@@ -47,10 +47,6 @@ class Tracker {
   ImuReject add_imu(const ImuSample& sample) { return imu_.push(sample); }
   FrameResult track(const StereoFrame& frame);
 
-  // The latest tracked state propagated with the IMU to t_ns (POSE_IMU); nullopt before the
-  // first tracked frame or when t_ns precedes it.
-  std::optional<NavState> propagate(int64_t t_ns) const;
-
   const TrackerCounters& counters() const { return counters_; }
   const ImuBufferCounters& imu_counters() const { return imu_.counters(); }
   const LocalMap& map() const { return map_; }

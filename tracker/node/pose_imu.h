@@ -30,7 +30,7 @@ class PoseImuPropagator {
   void set_anchor(const PoseAnchor& anchor);
   const std::optional<PoseAnchor>& anchor() const { return anchor_; }
 
-  // The anchor state propagated to t_ns (body state, same conventions as Tracker::propagate);
+  // The anchor state propagated to t_ns (body state, predict() of common/imu/imu_residual.h);
   // nullopt without an anchor, before it, or more than keep_ns after it.
   std::optional<NavState> propagate(int64_t t_ns) const;
   size_t buffered() const { return samples_.size(); }
