@@ -7,7 +7,7 @@
 
 namespace hs {
 
-ImuCost::ImuCost(const ImuPreintegration& pim, const Eigen::Vector3d& g_w) : pim_(pim), g_w_(g_w) {
+ImuCost::ImuCost(const ImuPreintegration& pim) : pim_(pim) {
   if (pim.t1_ns() <= pim.t0_ns()) throw std::invalid_argument("ImuCost: empty preintegration");
   // covariance = L L^T, so S = L^-1 whitens: |S r|^2 = r^T covariance^-1 r.
   const Eigen::LLT<Matrix9d> llt(pim.covariance());
@@ -24,10 +24,11 @@ bool ImuCost::Evaluate(double const* const* parameters, double* residuals,
   const Eigen::Map<const Eigen::Vector3d> v_i(parameters[1]), v_j(parameters[3]);
   const ImuBias bias_i{Eigen::Map<const Eigen::Vector3d>(parameters[1] + 3),
                        Eigen::Map<const Eigen::Vector3d>(parameters[1] + 6)};
+  const Eigen::Map<const Eigen::Vector3d> g_w(parameters[4]);
   ImuResidualJacobians J;
   const Vector9d r = imu_residual(pim_, pose_q_w_b(pose_i).toRotationMatrix(), pose_p_w_b(pose_i),
                                   v_i, pose_q_w_b(pose_j).toRotationMatrix(), pose_p_w_b(pose_j),
-                                  v_j, bias_i, g_w_, jacobians != nullptr ? &J : nullptr);
+                                  v_j, bias_i, g_w, jacobians != nullptr ? &J : nullptr);
   Eigen::Map<Vector9d> whitened(residuals);
   whitened = sqrt_information_ * r;
   if (jacobians == nullptr) return true;
@@ -51,6 +52,16 @@ bool ImuCost::Evaluate(double const* const* parameters, double* residuals,
     Eigen::Map<SpeedBiasJacobian> Jsb(jacobians[3]);
     Jsb.setZero();
     Jsb.leftCols<3>() = sqrt_information_ * J.v_j;
+  }
+  if (jacobians[4] != nullptr) {
+    // g enters as -R_i^T g dt (velocity) and -R_i^T g dt^2 / 2 (position).
+    const double dt = pim_.dt_s();
+    const Eigen::Matrix3d Rt = pose_q_w_b(parameters[0]).toRotationMatrix().transpose();
+    Matrix93d J_g = Matrix93d::Zero();
+    J_g.middleRows<3>(3) = -dt * Rt;
+    J_g.bottomRows<3>() = -0.5 * dt * dt * Rt;
+    Eigen::Map<Eigen::Matrix<double, 9, 3, Eigen::RowMajor>> Jg(jacobians[4]);
+    Jg = sqrt_information_ * J_g;
   }
   return true;
 }

@@ -6,7 +6,6 @@
 
 #include "common/core/error.h"
 #include "common/lcm/convert.h"
-#include "hsslam/ground_truth_t.hpp"
 #include "hsslam/imu_batch_t.hpp"
 
 namespace hs {
@@ -14,18 +13,6 @@ namespace {
 
 bool finite3(const double* v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
-// The pose goes through ground_truth_from_msg: same fields, same checks (finite, unit q).
-NavState state_from_pose(const hsslam::keyframe_pose_t& pose, const std::string& where) {
-  hsslam::ground_truth_t gt;
-  gt.t_ns = pose.t_ns;
-  std::copy(pose.p_w_b, pose.p_w_b + 3, gt.p_w_b);
-  std::copy(pose.q_w_b, pose.q_w_b + 4, gt.q_w_b);
-  std::copy(pose.v_w, pose.v_w + 3, gt.v_w);
-  std::copy(pose.gyro_bias, pose.gyro_bias + 3, gt.gyro_bias);
-  std::copy(pose.accel_bias, pose.accel_bias + 3, gt.accel_bias);
-  return ground_truth_from_msg(gt, where + ": pose");
 }
 
 MapperKeypoint keypoint_from_msg(const hsslam::keypoint_t& k, const std::string& where) {
@@ -73,7 +60,7 @@ MapperKeyframe keyframe_from_msg(const hsslam::keyframe_t& msg, const std::strin
          std::to_string(msg.pose.t_ns));
   if (kf.prev_id < -1 || kf.prev_id >= kf.id)
     fail("prev_keyframe_id " + std::to_string(kf.prev_id) + " (expected -1 or in [0, id))");
-  kf.state = state_from_pose(msg.pose, where);
+  kf.state = keyframe_pose_from_msg(msg.pose, where + ": pose");
 
   const size_t n = msg.keypoints.size();
   if (msg.num_keypoints < 0 || static_cast<size_t>(msg.num_keypoints) != n ||

@@ -32,7 +32,7 @@ LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
     ++result.stats.rounds;
   }
 
-  problem.estimate(&result.keyframes, &result.points);
+  problem.estimate(&result.keyframes, &result.points, &result.g_w);
   result.outliers.resize(input.observations.size());
   for (size_t k = 0; k < result.outliers.size(); ++k) {
     result.outliers[k] = !(problem.chi2(k) <= options_.chi2_threshold);

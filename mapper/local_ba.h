@@ -26,7 +26,6 @@ struct LocalBaOptions {
   double time_budget_ms = 100.0;
   double chi2_threshold = 5.991;  // 95% of chi2 with 2 DoF: Huber threshold and outlier test
   double min_depth_m = 0.05;      // nearer to a camera: the observation cannot be used
-  Eigen::Vector3d g_w = default_gravity_w();
   int num_threads = 1;
 };
 
@@ -59,7 +58,17 @@ struct BaImuFactor {
   ImuPreintegration pim;
 };
 
+// Gravity in the world frame: held at g_w, or its direction estimated (the magnitude stays)
+// with a prior of prior_sigma_rad around g_w. A world levelled at rest from the mean
+// acceleration is tilted by the accelerometer bias (0.1 m/s^2 is 0.6 deg), and only motion
+// tells the two apart.
+struct BaGravity {
+  Eigen::Vector3d g_w = default_gravity_w();
+  double prior_sigma_rad = 0.0;  // <= 0: held fixed
+};
+
 struct LocalBaInput {
+  BaGravity gravity;
   std::vector<BaKeyframe> keyframes;
   std::vector<BaPoint> points;
   std::vector<BaObservation> observations;
@@ -76,8 +85,9 @@ struct LocalBaStats {
 };
 
 struct LocalBaResult {
-  std::vector<BaKeyframe> keyframes;  // input order, updated
-  std::vector<BaPoint> points;        // input order, updated
+  std::vector<BaKeyframe> keyframes;              // input order, updated
+  std::vector<BaPoint> points;                    // input order, updated
+  Eigen::Vector3d g_w = Eigen::Vector3d::Zero();  // the input's, or its estimate
   // Per observation: failed the chi2 test at the final estimate, or could not be projected.
   std::vector<bool> outliers;
   LocalBaStats stats;
@@ -89,7 +99,7 @@ class LocalBundleAdjuster {
 
   // Throws std::invalid_argument naming the element for malformed input: duplicate or unknown
   // ids, camera index not 0/1, non-finite values, sigma <= 0, an IMU factor whose
-  // preintegration does not span its keyframes' times.
+  // preintegration does not span its keyframes' times, a zero or non-finite gravity.
   LocalBaResult optimise(const LocalBaInput& input) const;
 
  private:

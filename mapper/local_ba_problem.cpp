@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "mapper/bias_walk_cost.h"
+#include "mapper/gravity_prior_cost.h"
 #include "mapper/imu_cost.h"
 
 namespace hs {
@@ -52,6 +53,9 @@ ceres::Problem::Options borrowing_problem_options() {
 }  // namespace
 
 LocalBaIndex resolve_local_ba_input(const LocalBaInput& in) {
+  require(in.gravity.g_w.allFinite() && in.gravity.g_w.norm() > 0.0 &&
+              std::isfinite(in.gravity.prior_sigma_rad),
+          "gravity is zero or not finite");
   const auto kf_index = index_ids(in.keyframes, "keyframe");
   const auto pt_index = index_ids(in.points, "point");
   for (const BaKeyframe& kf : in.keyframes) {
@@ -97,6 +101,7 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
     problem_.AddParameterBlock(pose_[k].data(), kPoseSize, &pose_manifold_);
   }
   for (const BaPoint& pt : input.points) point_.push_back({pt.p_w.x(), pt.p_w.y(), pt.p_w.z()});
+  Eigen::Map<Eigen::Vector3d>(gravity_.data()) = input.gravity.g_w;
   add_visual_terms(calib);
   add_inertial_terms();
   fix_gauge();
@@ -125,12 +130,23 @@ void LocalBaProblem::add_visual_terms(const StereoCalib& calib) {
 }
 
 void LocalBaProblem::add_inertial_terms() {
+  if (input_.imu_factors.empty()) return;
+  const BaGravity& gravity = input_.gravity;
+  if (gravity.prior_sigma_rad > 0.0) {
+    problem_.AddParameterBlock(gravity_.data(), 3, &gravity_manifold_);
+    inertial_.push_back(std::make_unique<GravityPriorCost>(gravity.g_w, gravity.prior_sigma_rad));
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, gravity_.data());
+  } else {
+    problem_.AddParameterBlock(gravity_.data(), 3);
+    problem_.SetParameterBlockConstant(gravity_.data());
+  }
   for (size_t k = 0; k < input_.imu_factors.size(); ++k) {
     const auto [i, j] = index_.imu_pairs[k];
     const ImuPreintegration& pim = input_.imu_factors[k].pim;
-    inertial_.push_back(std::make_unique<ImuCost>(pim, options_.g_w));
+    inertial_.push_back(std::make_unique<ImuCost>(pim));
     problem_.AddResidualBlock(inertial_.back().get(), nullptr, pose_[i].data(),
-                              speed_bias_[i].data(), pose_[j].data(), speed_bias_[j].data());
+                              speed_bias_[i].data(), pose_[j].data(), speed_bias_[j].data(),
+                              gravity_.data());
     inertial_.push_back(std::make_unique<BiasWalkCost>(pim));
     problem_.AddResidualBlock(inertial_.back().get(), nullptr, speed_bias_[i].data(),
                               speed_bias_[j].data());
@@ -159,14 +175,14 @@ void LocalBaProblem::configure_solver() {
   solver_options_.max_num_iterations = options_.iterations_per_round;
   solver_options_.num_threads = options_.num_threads;
   solver_options_.logging_type = ceres::SILENT;
-  // Points (the only 3-dim blocks) are eliminated first; keyframe blocks form the reduced
-  // system. Ceres switches to a non-Schur solver itself if no point remains free.
+  // Points are eliminated first; keyframe blocks and gravity form the reduced system. Ceres
+  // switches to a non-Schur solver itself if no point remains free.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   std::vector<double*> blocks;
   problem_.GetParameterBlocks(&blocks);
   bool has_points = false;
   for (double* block : blocks) {
-    const bool is_point = problem_.ParameterBlockSize(block) == 3;
+    const bool is_point = problem_.ParameterBlockSize(block) == 3 && block != gravity_.data();
     has_points = has_points || is_point;
     ordering->AddElementToGroup(block, is_point ? 0 : 1);
   }
@@ -204,8 +220,9 @@ void LocalBaProblem::drop_outliers(double chi2_threshold) {
   }
 }
 
-void LocalBaProblem::estimate(std::vector<BaKeyframe>* keyframes,
-                              std::vector<BaPoint>* points) const {
+void LocalBaProblem::estimate(std::vector<BaKeyframe>* keyframes, std::vector<BaPoint>* points,
+                              Eigen::Vector3d* g_w) const {
+  *g_w = Eigen::Map<const Eigen::Vector3d>(gravity_.data());
   *keyframes = input_.keyframes;
   for (size_t k = 0; k < keyframes->size(); ++k) {
     blocks_to_state(pose_[k].data(), speed_bias_[k].data(), &(*keyframes)[k].state);

@@ -4,6 +4,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+#include <ceres/sphere_manifold.h>
 
 #include <array>
 #include <cstddef>
@@ -42,7 +43,8 @@ class LocalBaProblem {
   // Removes the observations with chi2 above the threshold from the problem.
   void drop_outliers(double chi2_threshold);
   // The current estimate, in the input's order.
-  void estimate(std::vector<BaKeyframe>* keyframes, std::vector<BaPoint>* points) const;
+  void estimate(std::vector<BaKeyframe>* keyframes, std::vector<BaPoint>* points,
+                Eigen::Vector3d* g_w) const;
 
  private:
   void add_visual_terms(const StereoCalib& calib);
@@ -56,9 +58,11 @@ class LocalBaProblem {
   std::vector<std::array<double, kPoseSize>> pose_;
   std::vector<std::array<double, kSpeedBiasSize>> speed_bias_;
   std::vector<std::array<double, 3>> point_;
+  std::array<double, 3> gravity_{};
   // The problem borrows the cost functions, loss and manifold, so that removed residual blocks
   // can still be evaluated for the final outlier flags.
   PoseManifold pose_manifold_;
+  ceres::SphereManifold<3> gravity_manifold_;
   ceres::HuberLoss huber_;
   std::vector<std::unique_ptr<ReprojectionCost>> reprojection_;
   std::vector<ceres::ResidualBlockId> reprojection_block_;  // null when not in the problem

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numeric>
+#include <optional>
 
 #include "tracker/descriptor_match.h"
 
@@ -51,13 +53,17 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
 
   // Tracked points take the detected keypoint they coincide with; the others become
   // keypoints of their own (octave 0, orientation from the intensity centroid), so that every
-  // tracked point of a keyframe has a descriptor.
+  // tracked point of a keyframe has a descriptor. An attached keypoint is described where it
+  // was detected but placed where the point was tracked: that is the measurement (the mapper's
+  // observation) and the patch the point is re-anchored on, and a detection can lie up to the
+  // attach radius (or an octave's quantisation) away.
   constexpr double kAttachRadiusPx = 2.0;
   std::vector<Eigen::Vector2f> det_uv;
   det_uv.reserve(detected.size());
   for (const cv::KeyPoint& kp : detected.keypoints) det_uv.emplace_back(kp.pt.x, kp.pt.y);
   const KeypointGrid grid(det_uv, frame.cam0.cols, frame.cam0.rows);
   std::vector<int64_t> point_ids(detected.size(), -1);
+  std::vector<std::optional<Eigen::Vector2d>> tracked_uv(detected.size());
   std::vector<cv::KeyPoint> extra;
   std::vector<int> near;
   for (const TrackedObservation& t : tracked) {
@@ -70,6 +76,7 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     }
     if (best >= 0) {
       point_ids[best] = t.point_id;
+      tracked_uv[best] = t.uv;
       continue;
     }
     const cv::Point2f pt(static_cast<float>(t.uv.x()), static_cast<float>(t.uv.y()));
@@ -88,12 +95,19 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     to_describe[i].class_id = static_cast<int>(first_undescribed + i);
   const OrbFeatures described = orb_.describe(frame.cam0, std::move(to_describe));
   std::vector<int64_t> kept_ids(point_ids.begin(), point_ids.begin() + first_undescribed);
+  std::vector<size_t> source(first_undescribed);  // per kept keypoint: its index before
+  std::iota(source.begin(), source.end(), size_t{0});
   keypoints.resize(first_undescribed);
   for (const cv::KeyPoint& kp : described.keypoints) {
-    kept_ids.push_back(point_ids[static_cast<size_t>(kp.class_id)]);
+    source.push_back(static_cast<size_t>(kp.class_id));
+    kept_ids.push_back(point_ids[source.back()]);
     keypoints.push_back(kp);
     keypoints.back().class_id = -1;
   }
+  for (size_t k = 0; k < keypoints.size(); ++k)
+    if (source[k] < tracked_uv.size() && tracked_uv[source[k]])
+      keypoints[k].pt = cv::Point2f(static_cast<float>(tracked_uv[source[k]]->x()),
+                                    static_cast<float>(tracked_uv[source[k]]->y()));
   if (first_undescribed == 0)
     kf->features.descriptors = described.descriptors;
   else if (described.descriptors.empty())
@@ -155,8 +169,22 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
     uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
     if (static_cast<int>(chosen.size()) >= options_.max_new_points_per_keyframe) break;
   }
+  // The keyframe's tracked points are matched in cam1 too (in the same pass): a stereo view of
+  // every point at every keyframe, not only where it was created, is what constrains the
+  // depth of far points in the mapper's bundle adjustment.
+  const size_t num_new = chosen.size();
+  for (size_t i = 0; i < kf.point_ids.size(); ++i) {
+    if (kf.point_ids[i] < 0) continue;
+    chosen.push_back(static_cast<int>(i));
+    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+  }
   const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
-  for (size_t k = 0; k < chosen.size(); ++k) {
+  for (size_t k = num_new; k < chosen.size(); ++k) {
+    if (!matches[k].valid) continue;
+    kf.u_right[chosen[k]] = static_cast<float>(matches[k].uv1.x());
+    kf.depth[chosen[k]] = static_cast<float>(matches[k].p_c0.z());
+  }
+  for (size_t k = 0; k < num_new; ++k) {
     if (!matches[k].valid) continue;
     const int i = chosen[k];
     ++st.stereo_matched;

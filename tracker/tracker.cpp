@@ -150,7 +150,15 @@ std::string Tracker::validate(const StereoFrame& frame) {
   return "";
 }
 
-FrameResult Tracker::track(const StereoFrame& frame_in) {
+FrameResult Tracker::track(const StereoFrame& frame) {
+  FrameResult r = track_frame(frame);
+  // Keyframes of a moving start are in a world not yet aligned with gravity: a back end must
+  // not see them (alignment rotates the map, and later keyframes carry the rotated points).
+  if (r.state == TrackState::kInitialising) r.keyframe.reset();
+  return r;
+}
+
+FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
   FrameResult r;
   r.t_ns = frame_in.t_ns;
   r.seq = frame_in.seq;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/core/map_correction.h"
 #include "common/dataset/stereo_frame.h"
 #include "common/imu/vi_alignment.h"
 #include "tracker/direct_align.h"
@@ -37,6 +38,17 @@ struct TrackerCounters {
   int64_t relocalisations_rejected = 0;  // too far from the IMU prediction
   int64_t frames_without_imu = 0;        // IMU gap or IMU behind: tracked on vision alone
   int64_t reinitialisations = 0;
+  int64_t corrections_applied = 0;  // mapper corrections (MAP_UPDATE)
+  int64_t corrections_ignored = 0;  // for another map id, or no keyframe the tracker still has
+  int64_t correction_jumps = 0;     // applied, but moved the pose enough to change the map id
+};
+
+// What applying one mapper correction did.
+struct CorrectionResult {
+  bool applied = false;
+  double shift_m = 0.0;  // how far the current pose moved
+  double shift_rad = 0.0;
+  std::string message;
 };
 
 class Tracker {
@@ -46,6 +58,9 @@ class Tracker {
   // IMU samples must be added before the frames they cover (in sensor-time order overall).
   ImuReject add_imu(const ImuSample& sample) { return imu_.push(sample); }
   FrameResult track(const StereoFrame& frame);
+  // Applies a mapper correction to the local map (keyframe states, point positions, removed
+  // points) and moves the current state with the newest corrected keyframe the tracker has.
+  CorrectionResult apply(const MapCorrection& correction);
 
   const TrackerCounters& counters() const { return counters_; }
   const ImuBufferCounters& imu_counters() const { return imu_.counters(); }
@@ -74,6 +89,7 @@ class Tracker {
     std::vector<ImuPreintegration> pims;
   };
 
+  FrameResult track_frame(const StereoFrame& frame);
   std::string validate(const StereoFrame& frame);
   void advance_bootstrap(const ImuPreintegration& pim, FrameResult& r);
   bool initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& result);

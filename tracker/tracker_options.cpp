@@ -1,45 +1,13 @@
 #include "tracker/tracker_options.h"
 
 #include <cmath>
-#include <filesystem>
 
+#include "common/config/calibration_section.h"
 #include "common/config/config_section.h"
-#include "common/config/yaml_file.h"
 #include "common/core/error.h"
 
 namespace hs {
 namespace {
-
-namespace fs = std::filesystem;
-
-// Paths in a config are relative to the config file.
-std::string resolve(const std::string& config_path, const std::string& path) {
-  const fs::path p(path);
-  return p.is_absolute() ? path : (fs::path(config_path).parent_path() / p).string();
-}
-
-// The noise model of an EuRoC/Kalibr IMU sensor.yaml.
-ImuNoise read_imu_yaml(const std::string& path) {
-  const YAML::Node root = load_yaml_file(path);
-  ImuNoise n;
-  const auto get = [&](const char* key, double& out) {
-    const YAML::Node v = root[key];
-    if (!v) throw InputError(path, std::string("missing key '") + key + "'");
-    try {
-      out = v.as<double>();
-    } catch (const YAML::Exception&) {
-      throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be a number");
-    }
-    if (!(out > 0))
-      throw InputError(path, v.Mark().line + 1, std::string("'") + key + "' must be > 0");
-  };
-  get("gyroscope_noise_density", n.gyro_noise_density);
-  get("gyroscope_random_walk", n.gyro_random_walk);
-  get("accelerometer_noise_density", n.accel_noise_density);
-  get("accelerometer_random_walk", n.accel_random_walk);
-  get("rate_hz", n.rate_hz);
-  return n;
-}
 
 void read_orb(ConfigSection& s, OrbOptions& o) {
   s.read("num_features", o.num_features);
@@ -105,12 +73,8 @@ void read_node(ConfigSection& s, NodeOptions& o) {
 TrackerOptions load_tracker_options(const std::string& path) {
   TrackerOptions o;
   ConfigSection top = ConfigSection::load(path);
-  top.section("calibration", [&](ConfigSection& s) {
-    std::string cam0, cam1, imu;
-    if (s.read("cam0", cam0)) o.calib.cam0 = read_camera_yaml(resolve(path, cam0));
-    if (s.read("cam1", cam1)) o.calib.cam1 = read_camera_yaml(resolve(path, cam1));
-    if (s.read("imu", imu)) o.imu.noise = read_imu_yaml(resolve(path, imu));
-  });
+  top.section("calibration",
+              [&](ConfigSection& s) { read_calibration_section(s, path, o.calib, o.imu.noise); });
   top.section("tracker", [&](ConfigSection& s) {
     std::string rig = o.stereo ? "stereo" : "mono";
     s.read("rig", rig);
@@ -165,12 +129,17 @@ TrackerOptions load_tracker_options(const std::string& path) {
     RelocGateOptions& g = o.reloc_gate;
     s.read("position_m", g.position_m);
     s.read("accel_error_mps2", g.accel_error_mps2);
-    double rotation_deg = g.rotation_rad * 180.0 / M_PI;
-    s.read("rotation_deg", rotation_deg);
-    g.rotation_rad = rotation_deg * M_PI / 180.0;
+    s.read_degrees("rotation_deg", g.rotation_rad);
     s.read_seconds("trust_imu_s", g.trust_imu_ns);
     if (g.position_m <= 0 || g.accel_error_mps2 < 0 || g.rotation_rad <= 0)
       s.fail("position_m", "relocalisation gate values must be positive");
+  });
+  top.section("map_updates", [&](ConfigSection& s) {
+    CorrectionOptions& c = o.corrections;
+    s.read("max_silent_translation_m", c.max_silent_translation_m);
+    s.read_degrees("max_silent_rotation_deg", c.max_silent_rotation_rad);
+    if (!(c.max_silent_translation_m >= 0 && c.max_silent_rotation_rad >= 0))
+      s.fail("max_silent_translation_m", "must be >= 0");
   });
   top.section("node", [&](ConfigSection& s) { read_node(s, o.node); });
   o.channels = read_channel_names(top);

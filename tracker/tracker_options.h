@@ -1,6 +1,7 @@
 #pragma once
 // All options of the tracker, loaded from one YAML config (config/euroc.yaml documents every
 // key). Calibration comes from the config or from EuRoC sensor.yaml files it names.
+#include <cmath>
 #include <string>
 
 #include "common/calib/camera_calib.h"
@@ -29,6 +30,13 @@ struct RelocGateOptions {
   double accel_error_mps2 = 0.5;
   double rotation_rad = 0.2;
   int64_t trust_imu_ns = 5'000'000'000;
+};
+
+// Mapper corrections (MAP_UPDATE) move the current pose with the newest corrected keyframe.
+// A larger move is a jump a POSE consumer must be told of: the map id changes.
+struct CorrectionOptions {
+  double max_silent_translation_m = 0.02;
+  double max_silent_rotation_rad = 0.5 * M_PI / 180.0;
 };
 
 struct TrackerOptions {
@@ -61,6 +69,7 @@ struct TrackerOptions {
   // Longer IMU gaps (or IMU behind the camera by more) are not interpolated: vision alone.
   int64_t max_interpolated_imu_gap_ns = 50'000'000;
   RelocGateOptions reloc_gate;
+  CorrectionOptions corrections;
   // Scales the previous frame's marginal information before it becomes the next frame's prior.
   // Map points are held fixed, so a chain of priors would count the same map errors again every
   // frame and grow overconfident (measured on room_mav: ATE 3.1 cm at 1.0, 0.5-0.7 cm at

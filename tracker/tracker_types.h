@@ -38,7 +38,8 @@ struct FrameResult {
   float quality = 0.0f;  // 0..1
   int32_t map_id = 0;
   bool is_keyframe = false;
-  std::shared_ptr<const Keyframe> keyframe;  // the new keyframe, when is_keyframe
+  // The new keyframe, when is_keyframe and the state is known (not while initialising).
+  std::shared_ptr<const Keyframe> keyframe;
   int tracked_points = 0;
   std::vector<std::pair<std::string, float>> stage_ms;
   float total_ms = 0.0f;

@@ -81,6 +81,13 @@ bool ConfigSection::read_seconds(const std::string& key, int64_t& t_ns) {
   return true;
 }
 
+bool ConfigSection::read_degrees(const std::string& key, double& rad) {
+  double deg = rad * 180.0 / M_PI;
+  if (!read(key, deg)) return false;
+  rad = deg * M_PI / 180.0;
+  return true;
+}
+
 void ConfigSection::finish() const {
   if (!node_.IsMap()) return;
   std::map<std::string, long> first_line;

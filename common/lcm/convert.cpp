@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "common/core/error.h"
 
@@ -223,6 +224,85 @@ NavState odometry_from_msg(const hsslam::odometry_t& msg, const std::string& sou
                      "odometry_t quality " + std::to_string(msg.quality) + " outside [0, 1]");
   check_finite(msg.covariance, 36, source, "covariance");
   return nav_state_from(msg, source);
+}
+
+hsslam::keyframe_pose_t keyframe_pose_to_msg(int64_t id, const NavState& x) {
+  hsslam::keyframe_pose_t msg;
+  nav_state_to(x, msg);
+  msg.id = id;
+  return msg;
+}
+
+NavState keyframe_pose_from_msg(const hsslam::keyframe_pose_t& msg, const std::string& source) {
+  if (msg.id < 0) throw InputError(source, "keyframe id " + std::to_string(msg.id));
+  return nav_state_from(msg, source);
+}
+
+hsslam::map_update_t map_update_to_msg(const MapCorrection& c) {
+  hsslam::map_update_t msg{};
+  msg.t_ns = c.t_ns;
+  msg.seq = c.seq;
+  msg.map_id = c.map_id;
+  msg.previous_map_id = c.map_id;
+  msg.kind = hsslam::map_update_t::LOCAL_BA;
+  copy_wxyz(Eigen::Quaterniond::Identity(), msg.q_new_old);
+  for (const KeyframeCorrection& k : c.keyframes)
+    msg.keyframes.push_back(keyframe_pose_to_msg(k.id, k.state));
+  for (const PointCorrection& p : c.points) {
+    hsslam::map_point_t m;
+    m.id = p.id;
+    copy3(p.p_w, m.p_w);
+    msg.points.push_back(m);
+  }
+  msg.removed_point_ids = c.removed_points;
+  msg.num_keyframes = static_cast<int32_t>(msg.keyframes.size());
+  msg.num_points = static_cast<int32_t>(msg.points.size());
+  msg.num_removed_points = static_cast<int32_t>(msg.removed_point_ids.size());
+  return msg;
+}
+
+MapCorrection map_correction_from_msg(const hsslam::map_update_t& msg, const std::string& source) {
+  const std::string where = source + ": map_update_t seq " + std::to_string(msg.seq);
+  const auto fail = [&](const std::string& what) { throw InputError(where, what); };
+  if (msg.kind != hsslam::map_update_t::LOCAL_BA)
+    fail(std::string("kind ") +
+         (msg.kind == hsslam::map_update_t::LOOP    ? "LOOP"
+          : msg.kind == hsslam::map_update_t::MERGE ? "MERGE"
+          : msg.kind == hsslam::map_update_t::FULL_BA
+              ? "FULL_BA"
+              : "unknown (" + std::to_string(msg.kind) + ")") +
+         " is not supported by this tracker");
+  const auto check_count = [&](int32_t n, size_t size, const char* name) {
+    if (n < 0 || static_cast<size_t>(n) != size)
+      fail(std::string(name) + " " + std::to_string(n) + " but " + std::to_string(size) +
+           " entries");
+  };
+  check_count(msg.num_keyframes, msg.keyframes.size(), "num_keyframes");
+  check_count(msg.num_points, msg.points.size(), "num_points");
+  check_count(msg.num_removed_points, msg.removed_point_ids.size(), "num_removed_points");
+  std::unordered_set<int64_t> seen;
+  const auto check_id = [&](int64_t id, const char* what) {
+    if (id < 0 || !seen.insert(id).second)
+      fail(std::string(what) + " id " + std::to_string(id) + (id < 0 ? " negative" : " twice"));
+  };
+  MapCorrection c;
+  c.seq = msg.seq;
+  c.map_id = msg.map_id;
+  c.t_ns = msg.t_ns;
+  for (const hsslam::keyframe_pose_t& k : msg.keyframes) {
+    check_id(k.id, "keyframe");
+    c.keyframes.push_back({k.id, keyframe_pose_from_msg(k, where + ": keyframe")});
+  }
+  seen.clear();
+  for (const hsslam::map_point_t& p : msg.points) {
+    check_id(p.id, "point");
+    check_finite(p.p_w, 3, where, "point " + std::to_string(p.id) + " p_w");
+    c.points.push_back({p.id, Eigen::Map<const Eigen::Vector3d>(p.p_w)});
+  }
+  seen.clear();
+  for (int64_t id : msg.removed_point_ids) check_id(id, "removed point");
+  c.removed_points = msg.removed_point_ids;
+  return c;
 }
 
 }  // namespace hs

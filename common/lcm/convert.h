@@ -5,10 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "common/core/map_correction.h"
 #include "common/core/types.h"
 #include "common/dataset/stereo_frame.h"
 #include "hsslam/ground_truth_t.hpp"
 #include "hsslam/imu_batch_t.hpp"
+#include "hsslam/keyframe_pose_t.hpp"
+#include "hsslam/map_update_t.hpp"
 #include "hsslam/odometry_t.hpp"
 #include "hsslam/stereo_frame_t.hpp"
 
@@ -39,5 +42,16 @@ hsslam::odometry_t odometry_to_msg(const NavState& x, int64_t seq, int32_t map_i
                                    float quality);
 // Checks as for ground truth, plus a known state, quality in [0, 1], finite covariance.
 NavState odometry_from_msg(const hsslam::odometry_t& msg, const std::string& source);
+
+hsslam::keyframe_pose_t keyframe_pose_to_msg(int64_t id, const NavState& x);
+// Checks as for ground truth, plus id >= 0.
+NavState keyframe_pose_from_msg(const hsslam::keyframe_pose_t& msg, const std::string& source);
+
+// A LOCAL_BA update (no rigid correction: identity p/q_new_old, previous_map_id = map_id).
+hsslam::map_update_t map_update_to_msg(const MapCorrection& c);
+// Checks: kind LOCAL_BA (LOOP, MERGE and FULL_BA are not produced yet: refused by name), counts
+// match the arrays, keyframe poses as keyframe_pose_from_msg, finite point positions, no id
+// twice in a list, ids >= 0.
+MapCorrection map_correction_from_msg(const hsslam::map_update_t& msg, const std::string& source);
 
 }  // namespace hs

@@ -254,6 +254,52 @@ TEST(ConvertOdometry, RoundTripAndChecks) {
   EXPECT_THAT(error(bad), HasSubstr("p_w_b[0] is not finite"));
 }
 
+TEST(ConvertMapUpdate, RoundTripAndChecks) {
+  MapCorrection c;
+  c.seq = 4;
+  c.map_id = 1;
+  c.t_ns = 123;
+  c.keyframes = {{7, some_state()}, {9, some_state()}};
+  c.points = {{3, Eigen::Vector3d(1, 2, 3)}, {5, Eigen::Vector3d(-1, 0, 2)}};
+  c.removed_points = {11};
+  const hsslam::map_update_t msg = map_update_to_msg(c);
+  EXPECT_EQ(msg.kind, hsslam::map_update_t::LOCAL_BA);
+  EXPECT_EQ(msg.previous_map_id, 1);
+  EXPECT_EQ(msg.q_new_old[0], 1.0);  // no rigid correction
+  const MapCorrection back = map_correction_from_msg(msg, "MAP_UPDATE");
+  EXPECT_EQ(back.seq, 4);
+  EXPECT_EQ(back.map_id, 1);
+  EXPECT_EQ(back.t_ns, 123);
+  ASSERT_EQ(back.keyframes.size(), 2u);
+  EXPECT_EQ(back.keyframes[1].id, 9);
+  expect_same_state(back.keyframes[1].state, c.keyframes[1].state);
+  ASSERT_EQ(back.points.size(), 2u);
+  EXPECT_EQ(back.points[1].p_w, c.points[1].p_w);
+  EXPECT_EQ(back.removed_points, c.removed_points);
+
+  const auto error = [](const hsslam::map_update_t& m) {
+    return input_error_of([&] { map_correction_from_msg(m, "MAP_UPDATE"); });
+  };
+  auto bad = msg;
+  bad.kind = hsslam::map_update_t::LOOP;
+  EXPECT_THAT(error(bad), HasSubstr("kind LOOP is not supported"));
+  bad = msg;
+  bad.num_points = 3;
+  EXPECT_THAT(error(bad), HasSubstr("num_points 3 but 2 entries"));
+  bad = msg;
+  bad.points[0].p_w[2] = NAN;
+  EXPECT_THAT(error(bad), HasSubstr("point 3 p_w[2] is not finite"));
+  bad = msg;
+  bad.keyframes[1].id = 7;
+  EXPECT_THAT(error(bad), HasSubstr("keyframe id 7 twice"));
+  bad = msg;
+  bad.keyframes[0].q_w_b[1] = 0.5;
+  EXPECT_THAT(error(bad), HasSubstr("MAP_UPDATE: map_update_t seq 4: keyframe"));
+  bad = msg;
+  bad.removed_point_ids[0] = -2;
+  EXPECT_THAT(error(bad), HasSubstr("removed point id -2 negative"));
+}
+
 TEST(ConvertEncoding, Names) {
   EXPECT_EQ(parse_image_encoding("png"), ImageEncoding::kPng);
   EXPECT_EQ(parse_image_encoding("mono8"), ImageEncoding::kMono8);

@@ -126,11 +126,15 @@ TEST(LocalBaJacobians, ImuAndBiasWalkMatchFiniteDifferences) {
   s_j.gyro_bias = Eigen::Vector3d(0.001, 0.002, -0.003);
   s_j.accel_bias = Eigen::Vector3d(-0.01, 0.04, 0.02);
 
-  const ImuCost imu(pim, default_gravity_w());
-  expect_jacobians_match(
-      imu,
-      {blocks_of(s_i).first, blocks_of(s_i).second, blocks_of(s_j).first, blocks_of(s_j).second},
-      {true, false, true, false}, 1e-5);
+  const ImuCost imu(pim);
+  const Eigen::Vector3d g = Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()) * default_gravity_w();
+  expect_jacobians_match(imu,
+                         {blocks_of(s_i).first,
+                          blocks_of(s_i).second,
+                          blocks_of(s_j).first,
+                          blocks_of(s_j).second,
+                          {g.x(), g.y(), g.z()}},
+                         {true, false, true, false, false}, 1e-5);
   const BiasWalkCost walk(pim);
   expect_jacobians_match(walk, {blocks_of(s_i).second, blocks_of(s_j).second}, {false, false},
                          1e-5);
@@ -256,6 +260,30 @@ TEST_F(LocalBaScene, StereoInertialWindowConverges) {
   // The fixed keyframe did not move.
   EXPECT_EQ(result.keyframes[0].state.p_w_b, truth_.keyframes[0].state.p_w_b);
   EXPECT_EQ(result.keyframes[0].state.v_w, truth_.keyframes[0].state.v_w);
+}
+
+TEST_F(LocalBaScene, TiltedGravityDirectionIsEstimated) {
+  // The world was levelled with a biased accelerometer: gravity is 1 deg off the assumed one.
+  test::BaScene scene = make({}, 1);
+  const Eigen::Vector3d tilted =
+      Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d(1, 1, 0).normalized()) * default_gravity_w();
+  const auto angle_deg = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) / kDeg;
+  };
+  scene.input.gravity.g_w = tilted;
+  const LocalBaResult held = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+  EXPECT_EQ(held.g_w, tilted);
+  scene.input.gravity.prior_sigma_rad = 2.0 * kDeg;
+  const LocalBaResult estimated = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+
+  EXPECT_LT(angle_deg(estimated.g_w, default_gravity_w()), 0.1);
+  EXPECT_NEAR(estimated.g_w.norm(), kGravityMagnitude, 1e-9);
+  const Errors e_held = state_errors(held.keyframes, truth_.keyframes);
+  const Errors e_estimated = state_errors(estimated.keyframes, truth_.keyframes);
+  EXPECT_LT(e_estimated.max_translation_m, 0.01);
+  EXPECT_LT(e_estimated.max_accel_bias, 0.05);
+  // Held at the wrong direction, the tilt shows as a wrong accelerometer bias.
+  EXPECT_GT(e_held.max_accel_bias, 2.0 * e_estimated.max_accel_bias);
 }
 
 TEST_F(LocalBaScene, WithoutFixedKeyframesTheOldestPoseIsHeld) {

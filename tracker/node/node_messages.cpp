@@ -12,19 +12,6 @@ void copy3(const Eigen::Vector3d& v, double* out) {
   for (int i = 0; i < 3; ++i) out[i] = v[i];
 }
 
-hsslam::keyframe_pose_t keyframe_pose(const Keyframe& kf) {
-  hsslam::keyframe_pose_t p;
-  p.id = kf.id;
-  p.t_ns = kf.state.t_ns;
-  copy3(kf.state.p_w_b, p.p_w_b);
-  const Eigen::Quaterniond& q = kf.state.q_w_b;
-  p.q_w_b[0] = q.w(), p.q_w_b[1] = q.x(), p.q_w_b[2] = q.y(), p.q_w_b[3] = q.z();
-  copy3(kf.state.v_w, p.v_w);
-  copy3(kf.state.gyro_bias, p.gyro_bias);
-  copy3(kf.state.accel_bias, p.accel_bias);
-  return p;
-}
-
 }  // namespace
 
 std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBufferCounters& i) {
@@ -40,6 +27,9 @@ std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBu
           {"relocalisations", t.relocalisations},
           {"relocalisations_rejected", t.relocalisations_rejected},
           {"reinitialisations", t.reinitialisations},
+          {"corrections_applied", t.corrections_applied},
+          {"corrections_ignored", t.corrections_ignored},
+          {"correction_jumps", t.correction_jumps},
           {"imu_accepted", i.accepted},
           {"imu_non_finite", i.non_finite},
           {"imu_out_of_range", i.out_of_range},
@@ -86,7 +76,7 @@ hsslam::keyframe_t keyframe_msg(const Keyframe& kf, const LocalMap& map, int32_t
   hsslam::keyframe_t msg;
   msg.t_ns = kf.state.t_ns;
   msg.map_id = map_id;
-  msg.pose = keyframe_pose(kf);
+  msg.pose = keyframe_pose_to_msg(kf.id, kf.state);
   msg.prev_keyframe_id = kf.prev_keyframe_id;
   const auto positions = map.point_positions(kf);
   const OrbFeatures& f = kf.features;

@@ -1,11 +1,13 @@
 #include "tracker/offline/offline_run.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <optional>
 #include <sstream>
 
 #include "common/core/atomic_file.h"
+#include "tracker/node/node_messages.h"
 
 namespace hs {
 
@@ -95,6 +97,16 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
       rec.stage_ms = r.stage_ms;
       rec.nav = r.nav;
       rec.message = r.message;
+      if (r.keyframe && run_options.back_end) {
+        for (const MapCorrection& c :
+             run_options.back_end(keyframe_msg(*r.keyframe, tracker.map(), r.map_id))) {
+          const CorrectionResult applied = tracker.apply(c);
+          rec.corrections += applied.applied;
+          rec.correction_shift_m = std::max(rec.correction_shift_m, applied.shift_m);
+          if (!applied.message.empty())
+            rec.message += (rec.message.empty() ? "" : "; ") + applied.message;
+        }
+      }
       out.frames.push_back(std::move(rec));
       if (run_options.verbose && !r.message.empty())
         std::fprintf(stderr, "frame %lld [%s]: %s\n", static_cast<long long>(r.seq),

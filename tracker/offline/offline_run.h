@@ -9,9 +9,15 @@
 #include "common/dataset/euroc_stream.h"
 #include "common/eval/evaluate.h"
 #include "common/sim/dataset_gen.h"
+#include "hsslam/keyframe_t.hpp"
 #include "tracker/tracker.h"
 
 namespace hs {
+
+// A back end in the same process (hs-run --with-mapper): it gets every keyframe as the
+// KEYFRAME message the hs-tracker process would publish, and returns the corrections the
+// tracker applies before the next frame (the deterministic stand-in for MAP_UPDATE).
+using BackEnd = std::function<std::vector<MapCorrection>(const hsslam::keyframe_t&)>;
 
 // Yields events in sensor-time order; false at the end.
 using EventSource = std::function<bool(DatasetEvent&)>;
@@ -34,6 +40,8 @@ struct FrameRecord {
   std::vector<std::pair<std::string, float>> stage_ms;
   NavState nav;
   std::string message;
+  int corrections = 0;              // back-end corrections applied after this frame
+  double correction_shift_m = 0.0;  // the largest move of the pose they caused
 };
 
 struct OfflineRunResult {
@@ -53,6 +61,7 @@ struct OfflineRunOptions {
   // IMU samples and frames of the first skip_ns of the dataset are not fed, so the tracker
   // starts mid-sequence (e.g. already moving); ground truth is kept.
   int64_t skip_ns = 0;
+  BackEnd back_end;  // none: the tracker alone
 };
 
 OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,

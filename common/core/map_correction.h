@@ -1,0 +1,31 @@
+#pragma once
+// A mapper's correction of the tracker's map (the MAP_UPDATE channel as plain data): refined
+// keyframe states and point positions, and the points the mapper found to be outliers.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "common/core/types.h"
+
+namespace hs {
+
+struct KeyframeCorrection {
+  int64_t id = -1;
+  NavState state;  // state.t_ns is the keyframe time
+};
+
+struct PointCorrection {
+  int64_t id = -1;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+};
+
+struct MapCorrection {
+  int64_t seq = 0;     // increases by one per correction a mapper sends
+  int32_t map_id = 0;  // the tracker map id the keyframes belong to
+  int64_t t_ns = 0;    // time of the newest keyframe covered
+  std::vector<KeyframeCorrection> keyframes;
+  std::vector<PointCorrection> points;
+  std::vector<int64_t> removed_points;
+};
+
+}  // namespace hs

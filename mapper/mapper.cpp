@@ -1,0 +1,84 @@
+#include "mapper/mapper.h"
+
+#include <stdexcept>
+#include <unordered_map>
+#include <utility>
+
+namespace hs {
+
+Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
+    : calib_(calib), options_(options), graph_(options.graph), ba_(calib, options.ba) {}
+
+MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
+  MapperStep step;
+  const int64_t id = keyframe.id;
+  MapCorrection c;
+  c.map_id = keyframe.map_id;
+  c.t_ns = keyframe.state.t_ns;
+  for (MapperKeypoint& kp : keyframe.keypoints) {
+    if (kp.point_id < 0 || !removed_points_.count(kp.point_id)) continue;
+    keyframe.point_positions.erase(kp.point_id);
+    kp.point_id = -1;
+    ++counters_.removed_point_observations;
+  }
+  if (graph_.insert(std::move(keyframe)) == KeyframeGraph::InsertResult::kDuplicate) {
+    step.message = "keyframe " + std::to_string(id) + " seen before: ignored";
+    return step;
+  }
+  ++counters_.keyframes;
+
+  const LocalWindow window = graph_.local_window(id);
+  WindowInput problem = window_input(graph_, window, calib_, options_.window);
+  problem.input.gravity = {g_w_, options_.gravity_step_sigma_rad};
+  counters_.imu_factors_skipped += problem.imu_factors_skipped;
+  step.window_keyframes = static_cast<int>(window.keyframes.size());
+  step.window_points = static_cast<int>(window.points.size());
+  LocalBaResult result;
+  try {
+    result = ba_.optimise(problem.input);
+  } catch (const std::invalid_argument& e) {
+    // The graph only holds validated keyframes, so this is a bug, not bad input: say so and
+    // send nothing rather than a correction built on it.
+    step.message = std::string("local BA refused its window: ") + e.what();
+    return step;
+  }
+  ++counters_.local_ba_runs;
+  step.ba = result.stats;
+  g_w_ = result.g_w;
+
+  for (const BaKeyframe& k : result.keyframes) {
+    if (k.fixed) continue;
+    graph_.set_state(k.id, k.state);
+    c.keyframes.push_back({k.id, k.state});
+  }
+  std::unordered_map<int64_t, std::pair<int, int>> tally;  // point -> (observations, outliers)
+  for (size_t k = 0; k < problem.input.observations.size(); ++k) {
+    auto& [seen, failed] = tally[problem.input.observations[k].point_id];
+    ++seen;
+    failed += result.outliers[k] ? 1 : 0;
+  }
+  for (const BaPoint& p : result.points) {
+    const auto [seen, failed] = tally[p.id];
+    if (failed >= 2 && failed >= options_.point_outlier_ratio * seen) {
+      graph_.remove_point(p.id);
+      removed_points_.insert(p.id);
+      c.removed_points.push_back(p.id);
+      continue;
+    }
+    graph_.set_position(p.id, p.p_w);
+    c.points.push_back({p.id, p.p_w});
+  }
+  counters_.removed_points += static_cast<int64_t>(c.removed_points.size());
+
+  if (options_.cull_keyframes) {
+    for (int64_t k : redundant_keyframes(graph_, window.keyframes, options_.culling)) {
+      graph_.remove_keyframe(k);
+      ++counters_.culled_keyframes;
+    }
+  }
+  c.seq = next_seq_++;
+  step.correction = std::move(c);
+  return step;
+}
+
+}  // namespace hs

@@ -1,0 +1,59 @@
+#include "mapper/mapper_options.h"
+
+#include "common/config/calibration_section.h"
+#include "common/config/config_section.h"
+
+namespace hs {
+
+MapperConfig load_mapper_config(const std::string& path) {
+  MapperConfig c;
+  MapperOptions& o = c.mapper;
+  ConfigSection top = ConfigSection::load(path);
+  top.section("calibration", [&](ConfigSection& s) {
+    read_calibration_section(s, path, c.calib, o.window.imu.noise);
+  });
+  top.section("mapper", [&](ConfigSection& s) {
+    int window = static_cast<int>(o.graph.window_covisible);
+    s.read("window_covisible", window);
+    if (window < 1) s.fail("window_covisible", "must be >= 1");
+    o.graph.window_covisible = static_cast<size_t>(window);
+    s.read("window_min_shared", o.graph.window_min_shared);
+    s.read("pixel_sigma", o.window.pixel_sigma);
+    s.read("octave_scale", o.window.octave_scale);
+    if (!(o.window.pixel_sigma > 0) || !(o.window.octave_scale >= 1.0))
+      s.fail("pixel_sigma", "pixel_sigma must be > 0 and octave_scale >= 1");
+    s.read_seconds("max_imu_gap_s", o.window.max_imu_gap_ns);
+    s.read_degrees("gravity_step_deg", o.gravity_step_sigma_rad);
+    if (o.gravity_step_sigma_rad < 0) s.fail("gravity_step_deg", "must be >= 0");
+    s.read("point_outlier_ratio", o.point_outlier_ratio);
+    if (!(o.point_outlier_ratio > 0 && o.point_outlier_ratio <= 1))
+      s.fail("point_outlier_ratio", "must be in (0, 1]");
+    s.read("cull_keyframes", o.cull_keyframes);
+  });
+  top.section("local_ba", [&](ConfigSection& s) {
+    LocalBaOptions& b = o.ba;
+    s.read("iterations_per_round", b.iterations_per_round);
+    s.read("reject_outliers", b.reject_outliers);
+    s.read("time_budget_ms", b.time_budget_ms);
+    s.read("chi2_threshold", b.chi2_threshold);
+    s.read("min_depth_m", b.min_depth_m);
+    if (b.iterations_per_round < 1 || !(b.time_budget_ms > 0) || !(b.chi2_threshold > 0))
+      s.fail("iterations_per_round", "local BA options out of range");
+  });
+  top.section("culling", [&](ConfigSection& s) {
+    CullingOptions& k = o.culling;
+    s.read("redundant_ratio", k.redundant_ratio);
+    s.read("min_observers", k.min_observers);
+    s.read("octave_slack", k.octave_slack);
+    int keep = static_cast<int>(k.keep_recent);
+    s.read("keep_recent", keep);
+    if (keep < 0 || k.min_observers < 1 || !(k.redundant_ratio > 0 && k.redundant_ratio <= 1))
+      s.fail("redundant_ratio", "culling options out of range");
+    k.keep_recent = static_cast<size_t>(keep);
+    s.read_seconds("max_imu_span_s", k.max_imu_span_ns);
+  });
+  top.finish();
+  return c;
+}
+
+}  // namespace hs

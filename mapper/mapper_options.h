@@ -1,0 +1,19 @@
+#pragma once
+// Loading MapperOptions (and the rig calibration the mapper needs) from one YAML config
+// (config/mapper.yaml documents every key).
+#include <string>
+
+#include "common/calib/camera_calib.h"
+#include "mapper/mapper.h"
+
+namespace hs {
+
+struct MapperConfig {
+  StereoCalib calib = euroc_stereo_calib();
+  MapperOptions mapper;  // mapper.window.imu.noise from the calibration section
+};
+
+// Unknown keys, wrong types or bad values: InputError with file:line.
+MapperConfig load_mapper_config(const std::string& path);
+
+}  // namespace hs

@@ -1,0 +1,63 @@
+#include "mapper/offline/mapper_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+
+#include "mapper/keyframe_from_msg.h"
+#include "tracker/offline/run_report.h"
+
+namespace hs {
+
+void MapperRunStats::add(const MapperStep& step) {
+  if (step.ba.rounds == 0) return;
+  ba_ms.push_back(step.ba.time_ms);
+  window_keyframes.push_back(step.window_keyframes);
+  window_points.push_back(step.window_points);
+}
+
+BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose) {
+  return [&mapper, &stats, verbose](const hsslam::keyframe_t& msg) {
+    MapperStep step = mapper.add_keyframe(keyframe_from_msg(msg, "KEYFRAME"));
+    stats.add(step);
+    if (verbose && !step.message.empty()) std::cerr << "mapper: " << step.message << "\n";
+    std::vector<MapCorrection> out;
+    if (step.correction) out.push_back(std::move(*step.correction));
+    return out;
+  };
+}
+
+std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
+                        const OfflineRunResult& result) {
+  const MapperCounters& counters = mapper.counters();
+  const auto mean = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+  };
+  std::vector<double> shifts_mm;
+  int corrections = 0;
+  for (const FrameRecord& f : result.frames) {
+    corrections += f.corrections;
+    if (f.corrections > 0) shifts_mm.push_back(1e3 * f.correction_shift_m);
+  }
+  const TimeStats ba = time_stats(stats.ba_ms);
+  const TimeStats shift = time_stats(shifts_mm);
+  std::ostringstream o;
+  o.precision(3);
+  o << "mapper: " << counters.keyframes << " keyframes, " << counters.local_ba_runs
+    << " local BAs (median " << ba.median << " ms, p95 " << ba.p95 << " ms, max " << ba.max
+    << " ms; window " << mean(stats.window_keyframes) << " keyframes, " << mean(stats.window_points)
+    << " points), culled keyframes " << counters.culled_keyframes << ", removed points "
+    << counters.removed_points << ", IMU factors skipped (gaps) " << counters.imu_factors_skipped
+    << "; gravity "
+    << std::acos(std::clamp(-mapper.gravity_w().normalized().z(), -1.0, 1.0)) * 180.0 / M_PI
+    << " deg from the tracker world's -z\n";
+  o << "corrections applied " << corrections << ": pose moved median " << shift.median
+    << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
+    << result.counters.corrections_ignored << ", stated jumps (new map id) "
+    << result.counters.correction_jumps << "\n";
+  return o.str();
+}
+
+}  // namespace hs

@@ -1,0 +1,25 @@
+#pragma once
+// The mapper as the in-process back end of an offline run (hs-run --with-mapper), and what it
+// did: local BA time per keyframe, window sizes, how far its corrections moved the pose.
+#include <string>
+#include <vector>
+
+#include "mapper/mapper.h"
+#include "tracker/offline/offline_run.h"
+
+namespace hs {
+
+struct MapperRunStats {
+  std::vector<double> ba_ms;  // wall time per local BA
+  std::vector<double> window_keyframes, window_points;
+  void add(const MapperStep& step);
+};
+
+// Feeds each KEYFRAME message to `mapper` (decoded and validated as hs-mapper would) and returns
+// its correction; both must outlive the back end. Mapper messages go to stderr when verbose.
+BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose = false);
+
+std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
+                        const OfflineRunResult& result);
+
+}  // namespace hs

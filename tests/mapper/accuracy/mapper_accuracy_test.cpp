@@ -1,0 +1,60 @@
+// Tracker + mapper in one process (hs-run --with-mapper) against the tracker alone, on the same
+// simulated flight, with hs-eval's metrics.
+#include <gtest/gtest.h>
+
+#include "mapper/mapper.h"
+#include "mapper/offline/mapper_report.h"
+#include "tracker/offline/run_report.h"
+
+namespace hs {
+namespace {
+
+struct Runs {
+  OfflineRunResult alone, with_mapper;
+  MapperCounters mapper;
+};
+
+Runs run_both(const std::string& scenario_name, double duration_s) {
+  sim::Scenario scenario =
+      sim::load_scenario(HS_SOURCE_DIR "/config/sim/" + scenario_name + ".yaml");
+  scenario.duration_s = duration_s;
+  TrackerOptions options;
+  options.calib = scenario.camera.calib;
+  Runs runs;
+  {
+    sim::DatasetGenerator gen(scenario);
+    runs.alone = run_offline(options, sim_source(gen));
+  }
+  Mapper mapper(options.calib, MapperOptions{});
+  MapperRunStats stats;
+  OfflineRunOptions run_options;
+  run_options.back_end = in_process_back_end(mapper, stats);
+  sim::DatasetGenerator gen(scenario);
+  runs.with_mapper = run_offline(options, sim_source(gen), run_options);
+  runs.mapper = mapper.counters();
+  return runs;
+}
+
+// The first 20 s of room_mav (2 s at rest, then flying): every keyframe is bundle-adjusted and
+// its correction applied before the next frame. Measured: ATE 4.0 mm alone, 1.8 mm with the
+// mapper (0.45x).
+TEST(MapperAccuracy, RoomMavTrackerWithMapperBeatsTheTrackerAlone) {
+  const Runs runs = run_both("room_mav", 20.0);
+  const auto alone = evaluate_run(runs.alone);
+  const auto with_mapper = evaluate_run(runs.with_mapper);
+  ASSERT_TRUE(alone && with_mapper);
+  EXPECT_LE(with_mapper->ape.stats.rmse, 0.6 * alone->ape.stats.rmse)
+      << "alone:\n"
+      << summary_text(*alone) << "with the mapper:\n"
+      << summary_text(*with_mapper);
+  for (const FrameRecord& f : runs.with_mapper.frames)
+    EXPECT_NE(f.state, TrackState::kLost) << "frame at " << f.t_ns << ": " << f.message;
+  // Every keyframe got its correction, and none moved the pose enough to change the map id.
+  EXPECT_EQ(runs.mapper.local_ba_runs, runs.with_mapper.counters.keyframes);
+  EXPECT_EQ(runs.with_mapper.counters.corrections_applied, runs.with_mapper.counters.keyframes);
+  EXPECT_EQ(runs.with_mapper.counters.correction_jumps, 0);
+  EXPECT_EQ(runs.with_mapper.counters.corrections_ignored, 0);
+}
+
+}  // namespace
+}  // namespace hs

@@ -1,0 +1,44 @@
+#include "mapper/mapper_options.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/config/config_test_util.h"
+
+namespace hs {
+namespace {
+
+using test::expect_input_error;
+using test::TempYaml;
+
+TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
+  const MapperConfig c = load_mapper_config(HS_SOURCE_DIR "/config/mapper.yaml");
+  const MapperOptions d;
+  EXPECT_EQ(c.mapper.graph.window_covisible, d.graph.window_covisible);
+  EXPECT_EQ(c.mapper.window.pixel_sigma, d.window.pixel_sigma);
+  EXPECT_EQ(c.mapper.window.max_imu_gap_ns, d.window.max_imu_gap_ns);
+  EXPECT_NEAR(c.mapper.gravity_step_sigma_rad, d.gravity_step_sigma_rad, 1e-15);
+  EXPECT_EQ(c.mapper.ba.time_budget_ms, d.ba.time_budget_ms);
+  EXPECT_EQ(c.mapper.culling.max_imu_span_ns, d.culling.max_imu_span_ns);
+  EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
+}
+
+TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
+  const TempYaml ok(
+      "mapper:\n  pixel_sigma: 0.5\n  gravity_step_deg: 0\nlocal_ba:\n"
+      "  time_budget_ms: 40\nculling:\n  max_imu_span_s: 0.25\n");
+  const MapperConfig c = load_mapper_config(ok.path());
+  EXPECT_EQ(c.mapper.window.pixel_sigma, 0.5);
+  EXPECT_EQ(c.mapper.gravity_step_sigma_rad, 0.0);
+  EXPECT_EQ(c.mapper.ba.time_budget_ms, 40.0);
+  EXPECT_EQ(c.mapper.culling.max_imu_span_ns, 250'000'000);
+
+  const TempYaml unknown("mapper:\n  pixel_sigm: 0.5\n");
+  expect_input_error([&] { load_mapper_config(unknown.path()); }, {"pixel_sigm", "pixel_sigma"});
+  const TempYaml negative("mapper:\n  pixel_sigma: -1\n");
+  expect_input_error([&] { load_mapper_config(negative.path()); }, {"pixel_sigma", ":2"});
+  const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
+  expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
+}
+
+}  // namespace
+}  // namespace hs

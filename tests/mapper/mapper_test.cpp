@@ -1,0 +1,113 @@
+#include "mapper/mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "common/lcm/convert.h"
+#include "tests/mapper/keyframe_test_util.h"
+
+namespace hs {
+namespace {
+
+using test::ids;
+
+// Point id k on a 10 x 10 grid in front of the first keyframe's camera, 4-6 m deep.
+Eigen::Vector3d point_w(int64_t k) {
+  const StereoCalib calib = euroc_stereo_calib();
+  NavState first;  // keyframe 0 of test::keyframe_msg: at the origin, level
+  const Eigen::Vector3d p_c(-1.0 + 0.2 * static_cast<double>(k % 10),
+                            -0.8 + 0.16 * static_cast<double>(k / 10 % 10),
+                            4.0 + 0.02 * static_cast<double>(k % 100));
+  return first.T_w_b() * calib.cam0.T_b_c * p_c;
+}
+
+// test::keyframe_msg with its keypoints where the points project (cam0, and cam1 for u_right).
+// The keypoint of point `bad_point` (if >= 0) is put 40 px off, left or right by keyframe.
+MapperKeyframe consistent_keyframe(int64_t id, int64_t prev_id, const std::vector<int64_t>& points,
+                                   int32_t map_id = 0, int64_t bad_point = -1) {
+  const StereoCalib calib = euroc_stereo_calib();
+  hsslam::keyframe_t m = test::keyframe_msg(id, prev_id, points, map_id);
+  const NavState x = keyframe_pose_from_msg(m.pose, "test");
+  const Eigen::Isometry3d T_c0_w = (x.T_w_b() * calib.cam0.T_b_c).inverse();
+  const Eigen::Isometry3d T_c1_w = (x.T_w_b() * calib.cam1.T_b_c).inverse();
+  for (hsslam::keypoint_t& k : m.keypoints) {
+    if (k.map_point_id < 0) continue;
+    const Eigen::Vector3d p_w = point_w(k.map_point_id);
+    const Eigen::Vector2d uv = calib.cam0.intrinsics.project(T_c0_w * p_w);
+    k.u = static_cast<float>(uv.x());
+    k.v = static_cast<float>(uv.y());
+    k.u_right = static_cast<float>(calib.cam1.intrinsics.project(T_c1_w * p_w).x());
+    k.depth = static_cast<float>((T_c0_w * p_w).z());
+    if (k.map_point_id == bad_point) {
+      const float off = id % 2 ? 40.f : -40.f;
+      k.u += off, k.u_right += off;
+    }
+  }
+  for (hsslam::map_point_t& p : m.points) {
+    const Eigen::Vector3d p_w = point_w(p.id);
+    for (int i = 0; i < 3; ++i) p.p_w[i] = p_w[i];
+  }
+  return keyframe_from_msg(m, "KEYFRAME");
+}
+
+TEST(Mapper, EachKeyframeGivesACorrectionOfItsWindow) {
+  Mapper mapper(euroc_stereo_calib(), MapperOptions{});
+  const MapperStep first = mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9)));
+  ASSERT_TRUE(first.correction);
+  EXPECT_EQ(first.correction->seq, 0);
+  const MapperStep second = mapper.add_keyframe(consistent_keyframe(1, 0, ids(5, 14)));
+  ASSERT_TRUE(second.correction);
+  const MapCorrection& c = *second.correction;
+  EXPECT_EQ(c.seq, 1);
+  EXPECT_EQ(c.map_id, 0);
+  EXPECT_EQ(c.t_ns, test::keyframe_time(1));
+  // Both keyframes share points: both are in the window, with all 15 points, none an outlier.
+  ASSERT_EQ(c.keyframes.size(), 2u);
+  EXPECT_EQ(c.points.size(), 15u);
+  EXPECT_TRUE(c.removed_points.empty());
+  EXPECT_EQ(second.ba.num_outliers, 0);
+  EXPECT_EQ(second.window_keyframes, 2);
+  EXPECT_GT(second.ba.rounds, 0);
+  EXPECT_EQ(mapper.counters().local_ba_runs, 2);
+}
+
+TEST(Mapper, PointFailingTheBundleAdjustmentIsRemovedAndListed) {
+  Mapper mapper(euroc_stereo_calib(), MapperOptions{});
+  std::vector<int64_t> removed;
+  for (int64_t id = 0; id < 4; ++id) {
+    const MapperStep step = mapper.add_keyframe(consistent_keyframe(id, id - 1, ids(0, 29), 0, 7));
+    ASSERT_TRUE(step.correction);
+    removed.insert(removed.end(), step.correction->removed_points.begin(),
+                   step.correction->removed_points.end());
+  }
+  EXPECT_EQ(removed, std::vector<int64_t>{7});
+  EXPECT_EQ(mapper.graph().point(7), nullptr);
+  EXPECT_EQ(mapper.counters().removed_points, 1);
+  // The later keyframes still named it (the tracker here never applies the removal).
+  EXPECT_GT(mapper.counters().removed_point_observations, 0);
+}
+
+TEST(Mapper, DuplicateKeyframeIsIgnoredWithAMessage) {
+  Mapper mapper(euroc_stereo_calib(), MapperOptions{});
+  ASSERT_TRUE(mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9))).correction);
+  const MapperStep dup = mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9)));
+  EXPECT_FALSE(dup.correction);
+  EXPECT_NE(dup.message.find("keyframe 0 seen before"), std::string::npos) << dup.message;
+  EXPECT_EQ(mapper.counters().keyframes, 1);
+  EXPECT_EQ(mapper.graph().counters().duplicates, 1);
+}
+
+TEST(Mapper, CorrectionsStayInTheKeyframesMapId) {
+  Mapper mapper(euroc_stereo_calib(), MapperOptions{});
+  mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9), 0));
+  const MapperStep other = mapper.add_keyframe(consistent_keyframe(1, 0, ids(5, 14), 1));
+  ASSERT_TRUE(other.correction);
+  EXPECT_EQ(other.correction->map_id, 1);
+  // The points are shared, the map ids are not: keyframe 0 is neither optimised nor sent.
+  ASSERT_EQ(other.correction->keyframes.size(), 1u);
+  EXPECT_EQ(other.correction->keyframes[0].id, 1);
+}
+
+}  // namespace
+}  // namespace hs
