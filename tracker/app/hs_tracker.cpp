@@ -18,8 +18,8 @@
 namespace {
 
 constexpr const char* kFooter = R"(
-Subscribes to CAM_STEREO (stereo_frame_t) and IMU (imu_batch_t); publishes TRACKER_STATUS per
-frame, POSE per frame with a state (not while initialising), KEYFRAME per keyframe, POSE_IMU at
+Subscribes to CAM_STEREO (stereo_frame_t), IMU (imu_batch_t) and MAP_UPDATE (map_update_t
+from a mapper, applied between frames); publishes TRACKER_STATUS per frame, POSE per frame with a state (not while initialising), KEYFRAME per keyframe, POSE_IMU at
 the IMU rate and HEARTBEAT (channel names and the node: section from --config). Calibration: the config's, replaced by
 --calib (a EuRoC folder's cam0/cam1 sensor.yaml) or --calib-from-sim (a scenario's camera).
 Stops on SIGINT/SIGTERM after tracking the frames already queued, and prints a summary.

@@ -18,6 +18,15 @@ void InputQueue::push_imu(std::vector<ImuSample> samples) {
   ready_.notify_one();
 }
 
+void InputQueue::push_correction(MapCorrection correction) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++depth_.corrections;
+    items_.emplace_back(std::move(correction));
+  }
+  ready_.notify_one();
+}
+
 bool InputQueue::push_frame(StereoFrame frame) {
   bool dropped = false;
   {
@@ -45,8 +54,10 @@ bool InputQueue::pop(NodeInput& out) {
   items_.pop_front();
   if (const auto* imu = std::get_if<std::vector<ImuSample>>(&out))
     depth_.imu_samples -= imu->size();
-  else
+  else if (std::holds_alternative<StereoFrame>(out))
     --depth_.frames;
+  else
+    --depth_.corrections;
   return true;
 }
 

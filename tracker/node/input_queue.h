@@ -1,8 +1,9 @@
 #pragma once
-// The hand-over from the LCM receive thread to the tracking thread: IMU batches and frames in
-// arrival order (the log sends a frame's IMU before the frame, so the tracker sees every sample
-// that arrived before it). At most `max_frames` frames wait; a new frame then replaces the
-// OLDEST waiting frame, whose IMU samples stay. IMU samples are never dropped.
+// The hand-over from the LCM receive thread to the tracking thread: IMU batches, frames and
+// mapper corrections in arrival order (the log sends a frame's IMU before the frame, so the
+// tracker sees every sample that arrived before it). At most `max_frames` frames wait; a new
+// frame then replaces the OLDEST waiting frame, whose IMU samples stay. IMU samples and
+// corrections are never dropped.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -10,16 +11,18 @@
 #include <variant>
 #include <vector>
 
+#include "common/core/map_correction.h"
 #include "common/core/types.h"
 #include "common/dataset/stereo_frame.h"
 
 namespace hs {
 
-using NodeInput = std::variant<std::vector<ImuSample>, StereoFrame>;
+using NodeInput = std::variant<std::vector<ImuSample>, StereoFrame, MapCorrection>;
 
 struct InputQueueDepth {
   size_t frames = 0;
   size_t imu_samples = 0;
+  size_t corrections = 0;
 };
 
 class InputQueue {
@@ -27,6 +30,7 @@ class InputQueue {
   explicit InputQueue(size_t max_frames);
 
   void push_imu(std::vector<ImuSample> samples);
+  void push_correction(MapCorrection correction);
   // Returns whether the oldest waiting frame was dropped to make room.
   bool push_frame(StereoFrame frame);
   // Blocks for the next input; false once closed and drained.

@@ -8,6 +8,7 @@
 #include "common/lcm/convert.h"
 #include "common/lcm/decode.h"
 #include "hsslam/heartbeat_t.hpp"
+#include "hsslam/map_update_t.hpp"
 
 namespace hs {
 namespace {
@@ -35,6 +36,8 @@ TrackerNode::TrackerNode(lcm::LCM& lcm, const TrackerOptions& options)
       lcm_.subscribeFunction(options_.channels.cam_stereo, &TrackerNode::on_frame, this));
   subscriptions_.push_back(
       lcm_.subscribeFunction(options_.channels.imu, &TrackerNode::on_imu, this));
+  subscriptions_.push_back(
+      lcm_.subscribeFunction(options_.channels.map_update, &TrackerNode::on_map_update, this));
 }
 
 TrackerNode::~TrackerNode() {
@@ -91,6 +94,11 @@ std::vector<NamedCounter> TrackerNode::node_counters(const NodeStats& s) const {
           {"bad_imu_messages", s.bad_imu_messages},
           {"imu_samples_received", s.imu_samples_received},
           {"tracker_errors", s.tracker_errors},
+          {"map_updates_received", s.map_updates_received},
+          {"bad_map_update_messages", s.bad_map_update_messages},
+          {"map_updates_stale", s.map_updates_stale},
+          {"map_updates_lost", s.map_updates_lost},
+          {"mapper_restarts", s.mapper_restarts},
           {"pose_imu_published", s.pose_imu_published}};
 }
 
@@ -104,6 +112,11 @@ void TrackerNode::on_frame(const lcm::ReceiveBuffer* rbuf, const std::string& ch
 void TrackerNode::on_imu(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                          TrackerNode* self) {
   self->handle_imu(rbuf->data, rbuf->data_size, channel);
+}
+
+void TrackerNode::on_map_update(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                                TrackerNode* self) {
+  self->handle_map_update(rbuf->data, rbuf->data_size, channel);
 }
 
 void TrackerNode::bad_message(int64_t NodeStats::*counter, const std::string& what) {
@@ -143,6 +156,31 @@ void TrackerNode::handle_imu(const void* data, size_t size, const std::string& c
   publish_pose_imu(samples);
 }
 
+void TrackerNode::handle_map_update(const void* data, size_t size, const std::string& channel) {
+  MapCorrection c;
+  try {
+    c = map_correction_from_msg(decode_message<hsslam::map_update_t>(data, size, channel), channel);
+  } catch (const std::exception& e) {
+    bad_message(&NodeStats::bad_map_update_messages, e.what());
+    return;
+  }
+  // One mapper numbers its updates 0, 1, 2, ...: a repeat or a step back is stale (its
+  // keyframes' states were superseded), a jump means updates were lost, and 0 after more is a
+  // restarted mapper.
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.map_updates_received;
+  if (c.seq == 0 && last_update_seq_ > 0) {
+    ++stats_.mapper_restarts;
+  } else if (c.seq <= last_update_seq_) {
+    ++stats_.map_updates_stale;
+    return;
+  } else {
+    stats_.map_updates_lost += c.seq - last_update_seq_ - 1;
+  }
+  last_update_seq_ = c.seq;
+  queue_.push_correction(std::move(c));
+}
+
 void TrackerNode::publish_pose_imu(const std::vector<ImuSample>& samples) {
   std::optional<PoseAnchor> anchor;
   {
@@ -175,6 +213,8 @@ void TrackerNode::run() {
   while (queue_.pop(input)) {
     if (auto* samples = std::get_if<std::vector<ImuSample>>(&input)) {
       for (const ImuSample& s : *samples) tracker.add_imu(s);  // rejections: imu_counters()
+    } else if (auto* correction = std::get_if<MapCorrection>(&input)) {
+      apply(tracker, *correction);
     } else {
       track(tracker, std::get<StereoFrame>(input));
     }
@@ -223,19 +263,29 @@ void TrackerNode::track(Tracker& tracker, const StereoFrame& frame) {
   lcm_.publish(options_.channels.tracker_status, &status);
 }
 
+void TrackerNode::apply(Tracker& tracker, const MapCorrection& correction) {
+  const CorrectionResult r = tracker.apply(correction);
+  if (!r.message.empty()) correction_notes_ += (correction_notes_.empty() ? "" : "; ") + r.message;
+  std::vector<NamedCounter> counters = tracker_counters(tracker.counters(), tracker.imu_counters());
+  std::lock_guard<std::mutex> lock(mutex_);
+  tracker_counters_ = std::move(counters);
+}
+
 std::string TrackerNode::status_notes() {
   int64_t drops = 0, bad = 0;
   std::string last_error;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     drops = stats_.frames_dropped;
-    bad = stats_.bad_frame_messages + stats_.bad_imu_messages + stats_.tracker_errors;
+    bad = stats_.bad_frame_messages + stats_.bad_imu_messages + stats_.bad_map_update_messages +
+          stats_.tracker_errors;
     last_error = last_error_;
   }
-  std::string notes;
+  std::string notes = std::move(correction_notes_);
+  correction_notes_.clear();
   if (drops > reported_drops_)
-    notes = plural(drops - reported_drops_, "oldest frame") +
-            " dropped: tracker queue full (total " + std::to_string(drops) + ")";
+    notes += (notes.empty() ? "" : "; ") + plural(drops - reported_drops_, "oldest frame") +
+             " dropped: tracker queue full (total " + std::to_string(drops) + ")";
   if (bad > reported_bad_)
     notes += (notes.empty() ? "" : "; ") + plural(bad - reported_bad_, "bad input") +
              " ignored, last: " + last_error;
@@ -251,8 +301,9 @@ void TrackerNode::publish_heartbeat(int8_t state) {
   hb.pid = static_cast<int32_t>(::getpid());
   hb.state = state;
   const InputQueueDepth depth = queue_.depth();
-  hb.queue_names = {"frames", "imu_samples"};
-  hb.queue_depths = {static_cast<int32_t>(depth.frames), static_cast<int32_t>(depth.imu_samples)};
+  hb.queue_names = {"frames", "imu_samples", "map_updates"};
+  hb.queue_depths = {static_cast<int32_t>(depth.frames), static_cast<int32_t>(depth.imu_samples),
+                     static_cast<int32_t>(depth.corrections)};
   hb.num_queues = static_cast<int32_t>(hb.queue_names.size());
   std::string last_error;
   {

@@ -1,6 +1,7 @@
 #pragma once
 // The tracker as an LCM component (the hs-tracker process). Subscribes to CAM_STEREO
-// (stereo_frame_t) and IMU (imu_batch_t) and publishes TRACKER_STATUS per frame, POSE per frame
+// (stereo_frame_t), IMU (imu_batch_t) and MAP_UPDATE (map_update_t, from hs-mapper: applied
+// between frames) and publishes TRACKER_STATUS per frame, POSE per frame
 // that has a state (not while initialising, not for rejected frames: those are only in the
 // status), KEYFRAME per keyframe, POSE_IMU at the IMU rate and HEARTBEAT about once a period.
 //
@@ -35,7 +36,12 @@ struct NodeStats {
   int64_t poses_published = 0;
   int64_t pose_imu_published = 0;
   int64_t keyframes_published = 0;
-  double tracking_ms = 0.0;  // summed Tracker::track wall time
+  int64_t map_updates_received = 0;
+  int64_t bad_map_update_messages = 0;
+  int64_t map_updates_stale = 0;  // seq not after the previous one (duplicate, reordered)
+  int64_t map_updates_lost = 0;   // seq gaps (UDP multicast loses whole messages)
+  int64_t mapper_restarts = 0;    // seq back to 0
+  double tracking_ms = 0.0;       // summed Tracker::track wall time
 };
 
 class TrackerNode {
@@ -62,13 +68,17 @@ class TrackerNode {
   static void on_frame(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                        TrackerNode* self);
   static void on_imu(const lcm::ReceiveBuffer* rbuf, const std::string& channel, TrackerNode* self);
+  static void on_map_update(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                            TrackerNode* self);
   void handle_frame(const void* data, size_t size, const std::string& channel);
   void handle_imu(const void* data, size_t size, const std::string& channel);
+  void handle_map_update(const void* data, size_t size, const std::string& channel);
   void bad_message(int64_t NodeStats::*counter, const std::string& what);
   void publish_pose_imu(const std::vector<ImuSample>& samples);
 
   void run();
   void track(Tracker& tracker, const StereoFrame& frame);
+  void apply(Tracker& tracker, const MapCorrection& correction);
   std::string status_notes();  // drops and bad input since the previous status
   void publish_heartbeat(int8_t state);
   std::vector<NamedCounter> node_counters(const NodeStats& s) const;
@@ -83,11 +93,13 @@ class TrackerNode {
   // Receive thread only.
   PoseImuPropagator pose_imu_;
   int64_t imu_seen_ = 0;
+  int64_t last_update_seq_ = -1;
   int64_t next_heartbeat_ns_ = 0;
 
   // Tracking thread only: what the previous status already reported.
   int64_t reported_drops_ = 0;
   int64_t reported_bad_ = 0;
+  std::string correction_notes_;  // from corrections applied since the previous status
 
   mutable std::mutex mutex_;  // guards everything below
   NodeStats stats_;

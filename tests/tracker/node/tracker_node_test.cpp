@@ -195,8 +195,8 @@ TEST_F(TrackerNodeTest, PublishesWhatTheLibraryComputesAndPoseImuAtTheImuRate) {
   EXPECT_EQ(out_.heartbeats.back().state, hsslam::heartbeat_t::STOPPING);
   EXPECT_EQ(out_.heartbeats.back().process, "hs-tracker");
   EXPECT_EQ(out_.heartbeats.back().queue_names,
-            (std::vector<std::string>{"frames", "imu_samples"}));
-  EXPECT_EQ(out_.heartbeats.back().queue_depths, (std::vector<int32_t>{0, 0}));
+            (std::vector<std::string>{"frames", "imu_samples", "map_updates"}));
+  EXPECT_EQ(out_.heartbeats.back().queue_depths, (std::vector<int32_t>{0, 0, 0}));
   EXPECT_EQ(out_.heartbeats.back().num_counters, last.num_counters);
 }
 
@@ -244,6 +244,46 @@ TEST_F(TrackerNodeTest, MalformedMessagesAreCountedAndTrackingContinues) {
   const NodeStats stats = node.stats();
   EXPECT_EQ(stats.bad_frame_messages, 2);
   EXPECT_EQ(stats.bad_imu_messages, 3);
+}
+
+TEST_F(TrackerNodeTest, MapUpdatesAreAppliedBetweenFramesAndTheirSequenceChecked) {
+  const ChannelNames& ch = options_.channels;
+  const size_t inject_after = seq_->reference.size() / 2;
+  // A correction that leaves the newest keyframe the node sent where it was.
+  const auto update = [&](int64_t seq) {
+    const hsslam::keyframe_t& kf = out_.keyframes.back();
+    MapCorrection c;
+    c.seq = seq;
+    c.map_id = kf.map_id;
+    c.t_ns = kf.t_ns;
+    c.keyframes.push_back({kf.pose.id, keyframe_pose_from_msg(kf.pose, "test")});
+    return test::encode(map_update_to_msg(c));
+  };
+  TrackerNode node(lcm_, options_);
+  node.start();
+  replay_in_lockstep(node, [&](size_t k) {
+    if (k != inject_after) return;
+    ASSERT_FALSE(out_.keyframes.empty());
+    hsslam::map_update_t loop = map_update_to_msg(MapCorrection{});
+    loop.kind = hsslam::map_update_t::LOOP;
+    // 0 applied; 0 again stale; 3 applied after 2 lost; a LOOP refused; 0 a restarted mapper.
+    for (const std::vector<uint8_t>& bytes :
+         {update(0), update(0), update(3), test::encode(loop), update(0)})
+      lcm_.publish(ch.map_update, bytes.data(), static_cast<unsigned>(bytes.size()));
+    pump(node, [] { return true; });
+  });
+  node.stop();
+
+  const hsslam::tracker_status_t& last = out_.statuses.back();
+  EXPECT_EQ(last.state, hsslam::odometry_t::TRACKING);
+  EXPECT_EQ(counter(last, "map_updates_received"), 4);
+  EXPECT_EQ(counter(last, "map_updates_stale"), 1);
+  EXPECT_EQ(counter(last, "map_updates_lost"), 2);
+  EXPECT_EQ(counter(last, "mapper_restarts"), 1);
+  EXPECT_EQ(counter(last, "bad_map_update_messages"), 1);
+  EXPECT_EQ(counter(last, "corrections_applied"), 3);
+  EXPECT_EQ(counter(last, "correction_jumps"), 0);
+  EXPECT_THAT(out_.statuses[inject_after + 1].message, HasSubstr("kind LOOP is not supported"));
 }
 
 TEST_F(TrackerNodeTest, FullQueueDropsTheOldestFrameButNoImu) {
