@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/calib/camera_calib.h"
+#include "common/config/channels.h"
 #include "mapper/mapper.h"
 
 namespace hs {
@@ -11,6 +12,8 @@ namespace hs {
 struct MapperConfig {
   StereoCalib calib = euroc_stereo_calib();
   MapperOptions mapper;  // mapper.window.imu.noise from the calibration section
+  ChannelNames channels;
+  int64_t heartbeat_period_ns = 1'000'000'000;  // the hs-mapper process
 };
 
 // Unknown keys, wrong types or bad values: InputError with file:line.

@@ -169,11 +169,12 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
     uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
     if (static_cast<int>(chosen.size()) >= options_.max_new_points_per_keyframe) break;
   }
-  // The keyframe's tracked points are matched in cam1 too (in the same pass): a stereo view of
-  // every point at every keyframe, not only where it was created, is what constrains the
-  // depth of far points in the mapper's bundle adjustment.
+  // For a mapper, the keyframe's tracked points are matched in cam1 too (in the same pass): a
+  // stereo view of every point at every keyframe, not only where it was created, constrains
+  // the depth of far points in the bundle adjustment (room_mav 20 s with the mapper: ATE
+  // 2.9 mm without, 1.8 mm with).
   const size_t num_new = chosen.size();
-  for (size_t i = 0; i < kf.point_ids.size(); ++i) {
+  for (size_t i = 0; i < kf.point_ids.size() && stereo_for_tracked_; ++i) {
     if (kf.point_ids[i] < 0) continue;
     chosen.push_back(static_cast<int>(i));
     uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);

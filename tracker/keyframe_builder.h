@@ -38,6 +38,9 @@ class KeyframeBuilder {
                                   KeyframeBuildStats* stats) const;
 
   const OrbExtractor& orb() const { return orb_; }
+  // Also match the keyframe's tracked points in cam1: only a mapper uses those stereo views
+  // (about 3 ms more per keyframe), the tracker needs stereo only for new points.
+  void set_stereo_for_tracked(bool on) { stereo_for_tracked_ = on; }
 
  private:
   void add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
@@ -46,6 +49,7 @@ class KeyframeBuilder {
   const TrackerOptions& options_;
   OrbExtractor orb_;
   StereoMatcher stereo_;
+  bool stereo_for_tracked_ = false;
 };
 
 // ORB's intensity-centroid orientation (degrees) of the patch around `uv`.

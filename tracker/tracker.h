@@ -61,6 +61,8 @@ class Tracker {
   // Applies a mapper correction to the local map (keyframe states, point positions, removed
   // points) and moves the current state with the newest corrected keyframe the tracker has.
   CorrectionResult apply(const MapCorrection& correction);
+  // A mapper consumes the keyframes: they carry a stereo view of every tracked point.
+  void set_mapper_present() { builder_.set_stereo_for_tracked(true); }
 
   const TrackerCounters& counters() const { return counters_; }
   const ImuBufferCounters& imu_counters() const { return imu_.counters(); }

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -88,6 +89,8 @@ int main(int argc, char** argv) {
                                              ? hs::MapperOptions{}
                                              : hs::load_mapper_config(mapper_config).mapper;
       mapper_options.window.imu = options.imu;
+      // Reproducible: the tracker waits for each bundle adjustment to finish, however long.
+      mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
       mapper.emplace(options.calib, mapper_options);
       run_options.back_end = hs::in_process_back_end(*mapper, mapper_stats, verbose);
     }

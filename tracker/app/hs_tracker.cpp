@@ -5,14 +5,13 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
-#include <filesystem>
-#include <stdexcept>
 #include <string>
 
 #include "common/calib/camera_calib.h"
 #include "common/core/stop_signal.h"
 #include "common/lcm/lcm_connection.h"
-#include "common/sim/scenario.h"
+#include "common/lcm/process_loop.h"
+#include "common/sim/rig_calib_option.h"
 #include "tracker/node/tracker_node.h"
 
 namespace {
@@ -58,9 +57,7 @@ int main(int argc, char** argv) {
   app.footer(kFooter);
   std::string config, calib_dir, sim_scenario, url = hs::default_lcm_url();
   app.add_option("--config", config, "tracker config (config/euroc.yaml; default: built in)");
-  auto* calib = app.add_option("--calib", calib_dir, "EuRoC folder (root or mav0/) for cameras");
-  app.add_option("--calib-from-sim", sim_scenario, "use this sim scenario's camera calibration")
-      ->excludes(calib);
+  hs::add_rig_calib_options(app, calib_dir, sim_scenario);
   app.add_option("--lcm-url", url, "LCM URL ($LCM_DEFAULT_URL or the project default)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -70,12 +67,7 @@ int main(int argc, char** argv) {
   try {
     hs::TrackerOptions options =
         config.empty() ? hs::TrackerOptions{} : hs::load_tracker_options(config);
-    if (!calib_dir.empty()) {
-      const std::filesystem::path mav0 = std::filesystem::path(calib_dir) / "mav0";
-      options.calib =
-          hs::read_stereo_calib(std::filesystem::exists(mav0) ? mav0.string() : calib_dir);
-    }
-    if (!sim_scenario.empty()) options.calib = hs::sim::load_scenario(sim_scenario).camera.calib;
+    hs::override_rig_calib(calib_dir, sim_scenario, options.calib);
 
     const std::string warning = hs::receive_buffer_warning(url);
     if (!warning.empty()) std::fprintf(stderr, "hs-tracker: warning: %s\n", warning.c_str());
@@ -88,11 +80,7 @@ int main(int argc, char** argv) {
                 options.node.frame_queue_size);
     std::fflush(stdout);  // tells a supervising script that the subscriptions are live
 
-    while (!hs::stop_requested()) {
-      if (lcm->handleTimeout(100) < 0 && !hs::stop_requested())
-        throw std::runtime_error("LCM receive failed");
-      node.poll();
-    }
+    hs::handle_until_stopped(*lcm, [&] { node.poll(); });
     node.stop();
     print_summary(node.stats(),
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

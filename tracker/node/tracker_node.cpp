@@ -1,23 +1,16 @@
 #include "tracker/node/tracker_node.h"
 
-#include <time.h>
-#include <unistd.h>
-
 #include <exception>
 
+#include "common/core/monotonic_clock.h"
 #include "common/lcm/convert.h"
 #include "common/lcm/decode.h"
+#include "common/lcm/process_loop.h"
 #include "hsslam/heartbeat_t.hpp"
 #include "hsslam/map_update_t.hpp"
 
 namespace hs {
 namespace {
-
-int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 std::string plural(int64_t n, const char* what) {
   return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
@@ -214,6 +207,7 @@ void TrackerNode::run() {
     if (auto* samples = std::get_if<std::vector<ImuSample>>(&input)) {
       for (const ImuSample& s : *samples) tracker.add_imu(s);  // rejections: imu_counters()
     } else if (auto* correction = std::get_if<MapCorrection>(&input)) {
+      tracker.set_mapper_present();  // a mapper is listening to KEYFRAME
       apply(tracker, *correction);
     } else {
       track(tracker, std::get<StereoFrame>(input));
@@ -295,11 +289,7 @@ std::string TrackerNode::status_notes() {
 }
 
 void TrackerNode::publish_heartbeat(int8_t state) {
-  hsslam::heartbeat_t hb;
-  hb.t_ns = monotonic_ns();
-  hb.process = "hs-tracker";
-  hb.pid = static_cast<int32_t>(::getpid());
-  hb.state = state;
+  hsslam::heartbeat_t hb = heartbeat_header("hs-tracker", state);
   const InputQueueDepth depth = queue_.depth();
   hb.queue_names = {"frames", "imu_samples", "map_updates"};
   hb.queue_depths = {static_cast<int32_t>(depth.frames), static_cast<int32_t>(depth.imu_samples),

@@ -69,6 +69,7 @@ Trajectory OfflineRunResult::ground_truth_trajectory() const {
 OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,
                              const OfflineRunOptions& run_options) {
   Tracker tracker(options);
+  if (run_options.back_end) tracker.set_mapper_present();
   OfflineRunResult out;
   DatasetEvent e;
   std::optional<int64_t> first_t_ns;

@@ -2,6 +2,8 @@
 // simulated flight, with hs-eval's metrics.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "mapper/mapper.h"
 #include "mapper/offline/mapper_report.h"
 #include "tracker/offline/run_report.h"
@@ -25,7 +27,9 @@ Runs run_both(const std::string& scenario_name, double duration_s) {
     sim::DatasetGenerator gen(scenario);
     runs.alone = run_offline(options, sim_source(gen));
   }
-  Mapper mapper(options.calib, MapperOptions{});
+  MapperOptions mapper_options;
+  mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();  // as hs-run
+  Mapper mapper(options.calib, mapper_options);
   MapperRunStats stats;
   OfflineRunOptions run_options;
   run_options.back_end = in_process_back_end(mapper, stats);

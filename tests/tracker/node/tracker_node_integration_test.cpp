@@ -23,6 +23,7 @@
 #include "hsslam/odometry_t.hpp"
 #include "hsslam/tracker_status_t.hpp"
 #include "tests/common/child_process.h"
+#include "tests/common/process_test_util.h"
 #include "tests/dataset/dataset_test_util.h"
 
 namespace hs {
@@ -30,6 +31,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::ChildProcess;
+using test::wait_for;
 
 struct TumPose {
   std::string t;  // as written: exact
@@ -77,24 +79,12 @@ struct Heard {
   }
 };
 
-template <class Ready>
-bool wait_for(Ready&& ready, int seconds) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (ready()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
-}
-
 TEST(TrackerProcess, ReplayAtSensorRateMatchesTheOfflineRun) {
   const long long rmem = read_rmem_max();
   ASSERT_GE(rmem, kWantedReceiveBuffer)
       << "net.core.rmem_max is " << rmem << " bytes: camera frames would be lost over udpm. Run "
       << "tools/setup.sh as root (rmem_max/rmem_default 16777216, route 224.0.0.0/4 dev lo).";
-  // A port of our own so parallel runs (and live processes on 7667) never cross-talk.
-  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + ::getpid() % 40000) +
-                          "?ttl=0&recv_buf_size=16777216";
+  const std::string url = test::private_udpm_url();
   lcm::LCM lcm(url);
   ASSERT_TRUE(lcm.good()) << "cannot open " << url << ": no multicast route? Run tools/setup.sh";
   Heard heard;

@@ -1,0 +1,37 @@
+#pragma once
+// What every HS-SLAM LCM process does between start and stop: handle messages until SIGINT or
+// SIGTERM (install_stop_signals() first), calling `poll` (heartbeats) between handle()s; and the
+// fields every heartbeat_t starts with.
+#include <unistd.h>
+
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "common/core/monotonic_clock.h"
+#include "common/core/stop_signal.h"
+#include "hsslam/heartbeat_t.hpp"
+
+namespace hs {
+
+// Throws std::runtime_error when LCM fails to receive.
+template <class Poll>
+void handle_until_stopped(lcm::LCM& lcm, Poll&& poll) {
+  while (!stop_requested()) {
+    if (lcm.handleTimeout(100) < 0 && !stop_requested())
+      throw std::runtime_error("LCM receive failed");
+    poll();
+  }
+}
+
+// t_ns (host CLOCK_MONOTONIC), process, pid and state; queues and counters left empty.
+inline hsslam::heartbeat_t heartbeat_header(const std::string& process, int8_t state) {
+  hsslam::heartbeat_t hb{};
+  hb.t_ns = monotonic_ns();
+  hb.process = process;
+  hb.pid = static_cast<int32_t>(::getpid());
+  hb.state = state;
+  return hb;
+}
+
+}  // namespace hs

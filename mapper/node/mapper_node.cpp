@@ -1,0 +1,150 @@
+#include "mapper/node/mapper_node.h"
+
+#include <chrono>
+#include <exception>
+
+#include "common/core/monotonic_clock.h"
+#include "common/lcm/convert.h"
+#include "common/lcm/decode.h"
+#include "common/lcm/process_loop.h"
+#include "hsslam/heartbeat_t.hpp"
+#include "hsslam/keyframe_t.hpp"
+#include "hsslam/map_update_t.hpp"
+#include "mapper/keyframe_from_msg.h"
+
+namespace hs {
+
+MapperNode::MapperNode(lcm::LCM& lcm, const StereoCalib& calib, const MapperOptions& options,
+                       const MapperNodeOptions& node_options)
+    : lcm_(lcm), node_options_(node_options), mapper_(calib, options) {
+  // Plain-function handler: GCC 12 UBSan's vptr check breaks LCM's member-function dispatch.
+  subscription_ =
+      lcm_.subscribeFunction(node_options_.channels.keyframe, &MapperNode::on_keyframe, this);
+}
+
+MapperNode::~MapperNode() {
+  stop();
+  lcm_.unsubscribe(subscription_);
+}
+
+void MapperNode::start() {
+  if (started_) return;
+  started_ = true;
+  worker_ = std::thread([this] { run(); });
+  publish_heartbeat(hsslam::heartbeat_t::STARTING);
+  next_heartbeat_ns_ = monotonic_ns() + node_options_.heartbeat_period_ns;
+}
+
+void MapperNode::stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    closed_ = true;
+  }
+  ready_.notify_all();
+  if (!worker_.joinable()) return;
+  worker_.join();
+  publish_heartbeat(hsslam::heartbeat_t::STOPPING);
+  started_ = false;
+}
+
+void MapperNode::poll() {
+  const int64_t now = monotonic_ns();
+  if (!started_ || now < next_heartbeat_ns_) return;
+  next_heartbeat_ns_ = now + node_options_.heartbeat_period_ns;
+  publish_heartbeat(hsslam::heartbeat_t::OK);
+}
+
+MapperNodeStats MapperNode::stats() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void MapperNode::on_keyframe(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                             MapperNode* self) {
+  self->handle_keyframe(rbuf->data, rbuf->data_size, channel);
+}
+
+void MapperNode::handle_keyframe(const void* data, size_t size, const std::string& channel) {
+  // No exception may leave an LCM callback (it unwinds through C code).
+  MapperKeyframe kf;
+  std::string error;
+  try {
+    kf = keyframe_from_msg(decode_message<hsslam::keyframe_t>(data, size, channel), channel);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.keyframes_received;
+    if (!error.empty()) {
+      ++stats_.bad_keyframe_messages;
+      last_message_ = error;
+      return;
+    }
+    queue_.push_back(std::move(kf));
+    stats_.max_backlog = std::max(stats_.max_backlog, queue_.size());
+  }
+  ready_.notify_one();
+}
+
+void MapperNode::run() {
+  for (;;) {
+    MapperKeyframe kf;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      ready_.wait(lock, [&] { return closed_ || !queue_.empty(); });
+      if (queue_.empty()) return;
+      kf = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    MapperStep step = mapper_.add_keyframe(std::move(kf));
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (step.correction) {
+      const hsslam::map_update_t msg = map_update_to_msg(*step.correction);
+      lcm_.publish(node_options_.channels.map_update, &msg);
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.keyframes_mapped;
+    stats_.updates_published += step.correction.has_value();
+    stats_.mapping_ms += ms;
+    mapper_counters_ = mapper_.counters();
+    graph_counters_ = mapper_.graph().counters();
+    if (!step.message.empty()) last_message_ = step.message;
+  }
+}
+
+void MapperNode::publish_heartbeat(int8_t state) {
+  hsslam::heartbeat_t hb = heartbeat_header("hs-mapper", state);
+  std::lock_guard<std::mutex> lock(mutex_);
+  hb.message = last_message_;
+  hb.queue_names = {"keyframes"};
+  hb.queue_depths = {static_cast<int32_t>(queue_.size())};
+  hb.num_queues = 1;
+  const MapperNodeStats& s = stats_;
+  const MapperCounters& m = mapper_counters_;
+  const KeyframeGraphCounters& g = graph_counters_;
+  const std::vector<std::pair<std::string, int64_t>> counters = {
+      {"keyframes_received", s.keyframes_received},
+      {"bad_keyframe_messages", s.bad_keyframe_messages},
+      {"keyframes_mapped", s.keyframes_mapped},
+      {"updates_published", s.updates_published},
+      {"max_backlog", static_cast<int64_t>(s.max_backlog)},
+      {"local_ba_runs", m.local_ba_runs},
+      {"culled_keyframes", m.culled_keyframes},
+      {"removed_points", m.removed_points},
+      {"imu_factors_skipped", m.imu_factors_skipped},
+      {"duplicate_keyframes", g.duplicates},
+      {"out_of_order_keyframes", g.out_of_order},
+      {"missing_previous_keyframes", g.missing_prev},
+      {"map_changes", g.map_changes}};
+  for (const auto& [name, value] : counters) {
+    hb.counter_names.push_back(name);
+    hb.counter_values.push_back(value);
+  }
+  hb.num_counters = static_cast<int32_t>(counters.size());
+  lcm_.publish(node_options_.channels.heartbeat, &hb);
+}
+
+}  // namespace hs

@@ -1,0 +1,79 @@
+#pragma once
+// The mapper as an LCM component (the hs-mapper process). Subscribes to KEYFRAME (keyframe_t),
+// runs the Mapper on each keyframe in a worker thread and publishes MAP_UPDATE (map_update_t)
+// per keyframe and HEARTBEAT about once a period (backlog, counters).
+//
+// Threads: the receive thread (lcm.handle()) decodes and validates keyframes and queues them;
+// it never waits for the mapper. The worker owns the Mapper. The backlog is unbounded (every
+// keyframe matters to the map) but measured: its depth is in every HEARTBEAT, its maximum in
+// stats(). A restarted mapper starts from the keyframes that arrive; its update numbers start
+// at 0 again, which the tracker recognises as a restart.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <lcm/lcm-cpp.hpp>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/config/channels.h"
+#include "mapper/mapper.h"
+
+namespace hs {
+
+struct MapperNodeOptions {
+  ChannelNames channels;
+  int64_t heartbeat_period_ns = 1'000'000'000;
+};
+
+struct MapperNodeStats {
+  int64_t keyframes_received = 0;
+  int64_t bad_keyframe_messages = 0;
+  int64_t keyframes_mapped = 0;
+  int64_t updates_published = 0;
+  size_t max_backlog = 0;   // keyframes waiting for the mapper, the most at any time
+  double mapping_ms = 0.0;  // summed Mapper::add_keyframe wall time
+};
+
+class MapperNode {
+ public:
+  MapperNode(lcm::LCM& lcm, const StereoCalib& calib, const MapperOptions& options,
+             const MapperNodeOptions& node_options);
+  ~MapperNode();
+  MapperNode(const MapperNode&) = delete;
+  MapperNode& operator=(const MapperNode&) = delete;
+
+  void start();
+  // Maps what is queued, stops the worker and publishes a STOPPING heartbeat. Idempotent.
+  void stop();
+  // Publishes HEARTBEAT when one is due. Call from the receive thread between lcm.handle()s.
+  void poll();
+  MapperNodeStats stats() const;
+
+ private:
+  static void on_keyframe(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                          MapperNode* self);
+  void handle_keyframe(const void* data, size_t size, const std::string& channel);
+  void run();
+  void publish_heartbeat(int8_t state);
+
+  lcm::LCM& lcm_;
+  const MapperNodeOptions node_options_;
+  Mapper mapper_;  // worker thread only (counters read under mutex_ after each keyframe)
+  lcm::Subscription* subscription_ = nullptr;
+  std::thread worker_;
+  bool started_ = false;
+  int64_t next_heartbeat_ns_ = 0;
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::condition_variable ready_;
+  std::deque<MapperKeyframe> queue_;
+  bool closed_ = false;
+  MapperNodeStats stats_;
+  MapperCounters mapper_counters_;
+  KeyframeGraphCounters graph_counters_;
+  std::string last_message_;
+};
+
+}  // namespace hs

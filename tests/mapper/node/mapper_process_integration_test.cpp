@@ -1,0 +1,200 @@
+// hs-tracker and hs-mapper as two processes over udpm multicast on loopback, fed by stock
+// lcm-logplayer at 1x (issue 6, "Runs" and "Faults"): the trajectory they publish against the
+// in-process run (hs-run --with-mapper), and what a killed and restarted mapper does to POSE.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/lcm/decode.h"
+#include "common/lcm/lcm_connection.h"
+#include "hsslam/odometry_t.hpp"
+#include "hsslam/tracker_status_t.hpp"
+#include "tests/common/child_process.h"
+#include "tests/common/process_test_util.h"
+#include "tests/dataset/dataset_test_util.h"
+
+namespace hs {
+namespace {
+
+using test::ChildProcess;
+using test::wait_for;
+
+// POSE times and the tracker's latest counters, as heard by the test.
+struct Heard {
+  std::vector<int64_t> pose_t_ns;
+  std::vector<std::string> counter_names;
+  std::vector<int64_t> counter_values;
+  int64_t counter(const std::string& name) const {
+    for (size_t i = 0; i < counter_names.size(); ++i)
+      if (counter_names[i] == name) return counter_values[i];
+    return -1;
+  }
+  static void on(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Heard* self) {
+    try {
+      if (channel == "POSE") {
+        self->pose_t_ns.push_back(
+            decode_message<hsslam::odometry_t>(rbuf->data, rbuf->data_size, channel).t_ns);
+      } else {
+        const auto s =
+            decode_message<hsslam::tracker_status_t>(rbuf->data, rbuf->data_size, channel);
+        self->counter_names = s.counter_names;
+        self->counter_values = s.counter_values;
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+};
+
+double ate_rmse(const std::string& gt, const std::string& estimate, const std::string& json) {
+  ChildProcess eval({HS_EVAL, gt, estimate, "--align", "--json", json}, json + ".txt");
+  EXPECT_EQ(eval.wait(), 0) << eval.output();
+  return nlohmann::json::parse(std::ifstream(json))["ape"]["rmse"].get<double>();
+}
+
+class MapperProcess : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir();
+    const std::string d = dir_->path();
+    ChildProcess gen({HS_SIM, "--scenario", HS_SOURCE_DIR "/config/sim/room_mav.yaml", "--out",
+                      d + "/sim", "--duration", "12", "--quiet"},
+                     d + "/sim.txt");
+    ASSERT_EQ(gen.wait(), 0) << gen.output();
+    ChildProcess conv({HS_EUROC2LCM, "--dataset", d + "/sim", "--out", d + "/sim.lcmlog"},
+                      d + "/euroc2lcm.txt");
+    ASSERT_EQ(conv.wait(), 0) << conv.output();
+    ChildProcess run({HS_RUN, "--dataset", d + "/sim", "--with-mapper", "--out", d + "/run"},
+                     d + "/run.txt");
+    ASSERT_EQ(run.wait(), 0) << run.output();
+    // A roomy frame queue: CI machines may stall the tracker while other jobs run.
+    std::ofstream(d + "/node.yaml") << "node:\n  frame_queue_size: 100\n";
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+
+  void SetUp() override {
+    ASSERT_GE(read_rmem_max(), kWantedReceiveBuffer)
+        << "net.core.rmem_max too small for camera frames over udpm: run tools/setup.sh as root";
+    ASSERT_TRUE(lcm_.good()) << "cannot open " << url_ << ": no multicast route? tools/setup.sh";
+    lcm_.subscribeFunction("(POSE|TRACKER_STATUS)", &Heard::on, &heard_);
+  }
+
+  std::string d() const { return dir_->path(); }
+  std::string gt() const { return d() + "/sim/mav0/state_groundtruth_estimate0/data.csv"; }
+  std::vector<std::string> mapper_cmd() const {
+    return {HS_MAPPER, "--calib", d() + "/sim", "--lcm-url", url_};
+  }
+  static bool listening(ChildProcess& p) {
+    return wait_for([&] { return p.output().find("listening") != std::string::npos; }, 20);
+  }
+  // Handles LCM until `done()` (at most `seconds`).
+  template <class Done>
+  void pump(Done&& done, int seconds) {
+    wait_for(
+        [&] {
+          while (lcm_.handleTimeout(10) > 0) {
+          }
+          return done();
+        },
+        seconds);
+  }
+
+  static test::TempDir* dir_;
+  const std::string url_ = test::private_udpm_url(7);
+  lcm::LCM lcm_{url_};
+  Heard heard_;
+};
+
+test::TempDir* MapperProcess::dir_ = nullptr;
+
+TEST_F(MapperProcess, TwoProcessesThroughLogplayerMatchTheInProcessRun) {
+  const double in_process = ate_rmse(gt(), d() + "/run/trajectory.tum", d() + "/run_eval.json");
+  ChildProcess recorder({HS_RECORD_TRAJECTORY, "--channel", "POSE", "--out", d() + "/pose.tum",
+                         "--lcm-url", url_, "--idle-timeout", "5"},
+                        d() + "/recorder.txt");
+  ChildProcess tracker(
+      {HS_TRACKER, "--config", d() + "/node.yaml", "--calib", d() + "/sim", "--lcm-url", url_},
+      d() + "/tracker.txt");
+  ChildProcess mapper(mapper_cmd(), d() + "/mapper.txt");
+  ASSERT_TRUE(listening(tracker)) << tracker.output();
+  ASSERT_TRUE(listening(mapper)) << mapper.output();
+  ASSERT_TRUE(
+      wait_for([&] { return recorder.output().find("recording") != std::string::npos; }, 20));
+  ChildProcess player({"lcm-logplayer", "-l", url_, d() + "/sim.lcmlog"}, d() + "/player.txt");
+  pump([&] { return !player.running(); }, 60);
+  EXPECT_EQ(player.wait(), 0) << player.output();
+  ASSERT_EQ(recorder.wait(), 0) << recorder.output();
+  tracker.signal(SIGINT);
+  mapper.signal(SIGINT);
+  EXPECT_EQ(tracker.wait(), 0) << tracker.output();
+  EXPECT_EQ(mapper.wait(), 0) << mapper.output();
+  pump([] { return false; }, 1);
+
+  const double two_processes = ate_rmse(gt(), d() + "/pose.tum", d() + "/pose_eval.json");
+  std::printf("ATE in process %.4f m, two processes %.4f m\n%s%s", in_process, two_processes,
+              tracker.output().c_str(), mapper.output().c_str());
+  // The corrections arrive a frame or so later than in process: the issue allows 10%.
+  EXPECT_LE(two_processes, 1.1 * in_process);
+  EXPECT_GT(heard_.counter("corrections_applied"), 20);
+  EXPECT_EQ(heard_.counter("map_updates_lost"), 0);
+  // The mapper kept up: every keyframe mapped, the backlog stayed small.
+  EXPECT_NE(mapper.output().find("(0 bad)"), std::string::npos) << mapper.output();
+  const size_t at = mapper.output().find("backlog at most ");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LE(std::stoi(mapper.output().substr(at + 16)), 3) << mapper.output();
+}
+
+TEST_F(MapperProcess, KilledMapperLeavesPoseGaplessAndARestartedOneResumes) {
+  ChildProcess tracker(
+      {HS_TRACKER, "--config", d() + "/node.yaml", "--calib", d() + "/sim", "--lcm-url", url_},
+      d() + "/tracker2.txt");
+  auto mapper = std::make_unique<ChildProcess>(mapper_cmd(), d() + "/mapper2.txt");
+  ASSERT_TRUE(listening(tracker)) << tracker.output();
+  ASSERT_TRUE(listening(*mapper)) << mapper->output();
+  ChildProcess player({"lcm-logplayer", "-l", url_, d() + "/sim.lcmlog"}, d() + "/player2.txt");
+  // 4 s into the flight (2 s of it moving), kill -9; 1 s later a new mapper.
+  pump([&] { return heard_.pose_t_ns.size() >= 60; }, 30);
+  mapper->signal(SIGKILL);
+  EXPECT_EQ(mapper->wait(), 128 + SIGKILL);
+  pump([] { return false; }, 1);
+  const int64_t applied_before = heard_.counter("corrections_applied");
+  const size_t poses_before = heard_.pose_t_ns.size();
+  pump([&] { return heard_.pose_t_ns.size() >= poses_before + 20; }, 30);
+  EXPECT_EQ(heard_.counter("corrections_applied"), applied_before);  // nobody corrects
+  mapper = std::make_unique<ChildProcess>(mapper_cmd(), d() + "/mapper3.txt");
+  ASSERT_TRUE(listening(*mapper)) << mapper->output();
+  pump([&] { return !player.running(); }, 60);
+  EXPECT_EQ(player.wait(), 0) << player.output();
+  pump([] { return false; }, 3);
+  tracker.signal(SIGINT);
+  mapper->signal(SIGINT);
+  EXPECT_EQ(tracker.wait(), 0) << tracker.output();
+  pump([] { return false; }, 1);
+
+  // POSE at the full frame rate throughout: no gap longer than a frame period (20 Hz).
+  ASSERT_GT(heard_.pose_t_ns.size(), 200u);
+  int64_t max_gap_ns = 0;
+  for (size_t i = 1; i < heard_.pose_t_ns.size(); ++i)
+    max_gap_ns = std::max(max_gap_ns, heard_.pose_t_ns[i] - heard_.pose_t_ns[i - 1]);
+  EXPECT_LE(max_gap_ns, 51'000'000);
+  // The new mapper's updates start at 0 again: taken as a restart, and corrections resume.
+  EXPECT_EQ(heard_.counter("mapper_restarts"), 1);
+  EXPECT_GT(heard_.counter("corrections_applied"), applied_before + 3)
+      << "ignored: " << heard_.counter("corrections_ignored") << "\n"
+      << mapper->output();
+  EXPECT_EQ(heard_.counter("correction_jumps"), 0);
+}
+
+}  // namespace
+}  // namespace hs
