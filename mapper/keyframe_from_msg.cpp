@@ -19,13 +19,16 @@ MapperKeypoint keypoint_from_msg(const hsslam::keypoint_t& k, const std::string&
   const auto fail = [&](const std::string& what) { throw InputError(where, what); };
   if (!std::isfinite(k.u) || !std::isfinite(k.v) || !std::isfinite(k.angle))
     fail("non-finite u, v or angle");
-  if (k.u_right != -1.f && !(std::isfinite(k.u_right) && k.u_right >= 0.f))
-    fail("u_right " + std::to_string(k.u_right) + " (expected -1 or >= 0)");
+  const bool no_right = k.u_right == -1.f && k.v_right == -1.f;
+  if (!no_right && !(std::isfinite(k.u_right) && k.u_right >= 0.f && std::isfinite(k.v_right) &&
+                     k.v_right >= 0.f))
+    fail("right pixel (" + std::to_string(k.u_right) + ", " + std::to_string(k.v_right) +
+         ") (expected -1 -1 or both >= 0)");
   if (k.depth != -1.f && !(std::isfinite(k.depth) && k.depth > 0.f))
     fail("depth " + std::to_string(k.depth) + " (expected -1 or > 0)");
   if (k.octave < 0) fail("negative octave " + std::to_string(k.octave));
   if (k.map_point_id < -1) fail("map_point_id " + std::to_string(k.map_point_id));
-  return {k.u, k.v, k.u_right, k.depth, k.octave, k.angle, k.map_point_id};
+  return {k.u, k.v, k.u_right, k.v_right, k.depth, k.octave, k.angle, k.map_point_id};
 }
 
 std::vector<ImuSample> imu_from_msg(const hsslam::keyframe_t& msg, const std::string& where) {

@@ -10,10 +10,10 @@ namespace hs {
 
 // Checks: t_ns equals pose.t_ns; prev_keyframe_id is -1 or in [0, id); finite pose with a unit
 // quaternion; counts match the arrays; 32-byte descriptors; finite keypoints with depth and
-// u_right either -1 or valid, octave >= 0; every referenced point id is in `points` exactly once
-// and observed by exactly one keypoint; finite IMU samples in strictly increasing time, all but
-// the last (the interpolation bracket) before t_ns. The IMU lower bound (the previous keyframe's
-// time) is not in the message: KeyframeGraph checks it when linking the chain.
+// right pixel either (-1, -1) or valid, octave >= 0; every referenced point id is in `points`
+// exactly once and observed by exactly one keypoint; finite IMU samples in strictly increasing
+// time, all but the last (the interpolation bracket) before t_ns. The IMU lower bound (the previous
+// keyframe's time) is not in the message: KeyframeGraph checks it when linking the chain.
 MapperKeyframe keyframe_from_msg(const hsslam::keyframe_t& msg, const std::string& source);
 
 }  // namespace hs

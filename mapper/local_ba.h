@@ -6,8 +6,9 @@
 //
 // Robust scheme as in ORB-SLAM's local BA: optimise, drop the observations failing the chi2
 // test, optimise again; the outlier flags come from the chi2 test at the final estimate.
-// Gauge: keyframes flagged `fixed` are held constant (pose, velocity and biases); when none is,
-// the pose of the oldest keyframe is held.
+// Gauge: keyframes flagged `fixed` are held constant (pose, velocity and biases), `pose_fixed`
+// ones only in pose; when none is, the pose of the oldest keyframe is held. With no points the
+// same solver is an inertial-only optimisation of velocities, biases and gravity on fixed poses.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -31,8 +32,9 @@ struct LocalBaOptions {
 
 struct BaKeyframe {
   int64_t id = 0;
-  NavState state;  // t_ns must match the IMU factors' ends
-  bool fixed = false;
+  NavState state;           // t_ns must match the IMU factors' ends
+  bool fixed = false;       // pose, velocity and biases held
+  bool pose_fixed = false;  // pose held, velocity and biases free (inertial-only refinement)
 };
 
 struct BaPoint {

@@ -157,10 +157,10 @@ void LocalBaProblem::fix_gauge() {
   const std::vector<BaKeyframe>& kfs = input_.keyframes;
   bool any_fixed = false;
   for (size_t k = 0; k < kfs.size(); ++k) {
-    if (!kfs[k].fixed) continue;
+    if (!kfs[k].fixed && !kfs[k].pose_fixed) continue;
     any_fixed = true;
     problem_.SetParameterBlockConstant(pose_[k].data());
-    if (problem_.HasParameterBlock(speed_bias_[k].data())) {
+    if (kfs[k].fixed && problem_.HasParameterBlock(speed_bias_[k].data())) {
       problem_.SetParameterBlockConstant(speed_bias_[k].data());
     }
   }
@@ -189,6 +189,10 @@ void LocalBaProblem::configure_solver() {
   if (has_points) {
     solver_options_.linear_solver_type = ceres::DENSE_SCHUR;
     solver_options_.linear_solver_ordering = ordering;
+  } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+    // An inertial-only chain of many keyframes: banded, dense would be cubic in its length.
+    solver_options_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    solver_options_.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   } else {
     solver_options_.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   }

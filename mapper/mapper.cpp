@@ -7,7 +7,7 @@
 namespace hs {
 
 Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
-    : calib_(calib), options_(options), graph_(options.graph), ba_(calib, options.ba) {}
+    : options_(options), graph_(options.graph), ba_(calib, options.ba) {}
 
 MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   MapperStep step;
@@ -26,13 +26,16 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
     return step;
   }
   ++counters_.keyframes;
+  const int every = options_.inertial.every_keyframes;
+  if (every > 0 && counters_.keyframes % every == 0) refine_inertial(id, step);
 
   const LocalWindow window = graph_.local_window(id);
-  WindowInput problem = window_input(graph_, window, calib_, options_.window);
-  problem.input.gravity = {g_w_, options_.gravity_step_sigma_rad};
+  WindowInput problem = window_input(graph_, window, options_.window);
+  problem.input.gravity = {g_w_, options_.window_gravity_sigma_rad};
   counters_.imu_factors_skipped += problem.imu_factors_skipped;
   step.window_keyframes = static_cast<int>(window.keyframes.size());
-  step.window_points = static_cast<int>(window.points.size());
+  step.window_points = static_cast<int>(problem.input.points.size());
+  step.window_observations = static_cast<int>(problem.input.observations.size());
   LocalBaResult result;
   try {
     result = ba_.optimise(problem.input);
@@ -76,9 +79,22 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
       ++counters_.culled_keyframes;
     }
   }
+  c.g_w = g_w_;
   c.seq = next_seq_++;
   step.correction = std::move(c);
   return step;
+}
+
+void Mapper::refine_inertial(int64_t newest, MapperStep& step) {
+  int skipped = 0;  // counted by the local BA's window too: not counted twice
+  const LocalBaInput input =
+      inertial_refinement_input(graph_, newest, g_w_, options_.inertial, options_.window, &skipped);
+  if (input.keyframes.empty()) return;
+  const LocalBaResult result = ba_.optimise(input);
+  ++counters_.inertial_refinements;
+  step.inertial = result.stats;
+  g_w_ = result.g_w;
+  for (const BaKeyframe& k : result.keyframes) graph_.set_state(k.id, k.state);
 }
 
 }  // namespace hs

@@ -23,8 +23,9 @@ inline int hamming_distance(const Descriptor& a, const Descriptor& b) {
 struct MapperKeypoint {
   float u = 0.f;  // raw (distorted) cam0 pixel
   float v = 0.f;
-  float u_right = -1.f;  // matched cam1 column, -1 if none
-  float depth = -1.f;    // metres in cam0, -1 if unknown
+  float u_right = -1.f;  // matched raw cam1 pixel, both -1 if none
+  float v_right = -1.f;
+  float depth = -1.f;  // metres in cam0, -1 if unknown
   int octave = 0;
   float angle = 0.f;      // degrees
   int64_t point_id = -1;  // observed map point, -1 if none

@@ -23,8 +23,8 @@ MapperConfig load_mapper_config(const std::string& path) {
     if (!(o.window.pixel_sigma > 0) || !(o.window.octave_scale >= 1.0))
       s.fail("pixel_sigma", "pixel_sigma must be > 0 and octave_scale >= 1");
     s.read_seconds("max_imu_gap_s", o.window.max_imu_gap_ns);
-    s.read_degrees("gravity_step_deg", o.gravity_step_sigma_rad);
-    if (o.gravity_step_sigma_rad < 0) s.fail("gravity_step_deg", "must be >= 0");
+    s.read_degrees("window_gravity_deg", o.window_gravity_sigma_rad);
+    if (!(o.window_gravity_sigma_rad >= 0)) s.fail("window_gravity_deg", "must be >= 0");
     s.read("point_outlier_ratio", o.point_outlier_ratio);
     if (!(o.point_outlier_ratio > 0 && o.point_outlier_ratio <= 1))
       s.fail("point_outlier_ratio", "must be in (0, 1]");
@@ -39,6 +39,18 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read("min_depth_m", b.min_depth_m);
     if (b.iterations_per_round < 1 || !(b.time_budget_ms > 0) || !(b.chi2_threshold > 0))
       s.fail("iterations_per_round", "local BA options out of range");
+  });
+  top.section("inertial", [&](ConfigSection& s) {
+    InertialRefinementOptions& r = o.inertial;
+    s.read("every_keyframes", r.every_keyframes);
+    int max_kf = static_cast<int>(r.max_keyframes), min_kf = static_cast<int>(r.min_keyframes);
+    s.read("max_keyframes", max_kf);
+    s.read("min_keyframes", min_kf);
+    s.read_degrees("gravity_prior_deg", r.gravity_prior_sigma_rad);
+    if (r.every_keyframes < 0 || min_kf < 2 || max_kf < min_kf || !(r.gravity_prior_sigma_rad > 0))
+      s.fail("every_keyframes", "inertial refinement options out of range");
+    r.max_keyframes = static_cast<size_t>(max_kf);
+    r.min_keyframes = static_cast<size_t>(min_kf);
   });
   top.section("culling", [&](ConfigSection& s) {
     CullingOptions& k = o.culling;

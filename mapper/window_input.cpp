@@ -19,7 +19,7 @@ ImuBias bias_of(const NavState& x) {
 }  // namespace
 
 WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
-                         const StereoCalib& calib, const WindowInputOptions& options) {
+                         const WindowInputOptions& options) {
   WindowInput out;
   LocalBaInput& in = out.input;
   const std::set<int64_t> free(window.keyframes.begin(), window.keyframes.end());
@@ -31,10 +31,16 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
 
   for (int64_t id : free) in.keyframes.push_back({id, graph.keyframe(id)->state, false});
   for (int64_t id : fixed) in.keyframes.push_back({id, graph.keyframe(id)->state, true});
-  const std::unordered_set<int64_t> points(window.points.begin(), window.points.end());
-  for (int64_t id : window.points) in.points.push_back({id, graph.point(id)->p_w, false});
+  // A point only one keyframe sees constrains no pose: it would only cost time (on
+  // vehicle_loop a third of the window's points are the new keyframe's own).
+  std::unordered_set<int64_t> points;
+  for (int64_t id : window.points) {
+    const MapperPoint& p = *graph.point(id);
+    if (p.observations.size() < 2) continue;
+    points.insert(id);
+    in.points.push_back({id, p.p_w, false});
+  }
 
-  const Eigen::Isometry3d T_c1_c0 = calib.T_c0_c1().inverse();
   for (const BaKeyframe& k : in.keyframes) {
     const MapperKeyframe& kf = *graph.keyframe(k.id);
     for (const MapperKeypoint& kp : kf.keypoints) {
@@ -42,21 +48,22 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
       const double sigma = options.pixel_sigma * std::pow(options.octave_scale, kp.octave);
       const Eigen::Vector2d uv(kp.u, kp.v);
       in.observations.push_back({k.id, kp.point_id, 0, uv, sigma});
-      if (kp.u_right < 0.f || kp.depth <= 0.f) continue;
-      const Eigen::Vector2d xy = calib.cam0.intrinsics.unproject_normalised(uv);
-      const Eigen::Vector3d p_c1 = T_c1_c0 * (Eigen::Vector3d(xy.x(), xy.y(), 1.0) * kp.depth);
-      Eigen::Vector2d uv_right;
-      if (!calib.cam1.intrinsics.project(p_c1, &uv_right)) continue;
-      uv_right.x() = kp.u_right;
-      in.observations.push_back({k.id, kp.point_id, 1, uv_right, sigma});
+      if (kp.u_right < 0.f) continue;
+      in.observations.push_back(
+          {k.id, kp.point_id, 1, Eigen::Vector2d(kp.u_right, kp.v_right), sigma});
     }
   }
 
-  const std::set<int64_t> all = [&] {
-    std::set<int64_t> s = free;
-    s.insert(fixed.begin(), fixed.end());
-    return s;
-  }();
+  std::set<int64_t> all = free;
+  all.insert(fixed.begin(), fixed.end());
+  in.imu_factors = chain_imu_factors(graph, all, fixed, options, &out.imu_factors_skipped);
+  return out;
+}
+
+std::vector<BaImuFactor> chain_imu_factors(const KeyframeGraph& graph, const std::set<int64_t>& all,
+                                           const std::set<int64_t>& fixed,
+                                           const WindowInputOptions& options, int* skipped) {
+  std::vector<BaImuFactor> factors;
   for (int64_t j : all) {
     const auto i = graph.imu_predecessor(j);
     if (!i || !all.count(*i) || (fixed.count(*i) && fixed.count(j))) continue;
@@ -67,12 +74,12 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
     const ImuIntegrationStatus& s = pim.status();
     if (pim.t1_ns() != kf_j.state.t_ns || s.nonfinite_rejected > 0 ||
         s.largest_gap_ns > options.max_imu_gap_ns || s.extrapolated_ns > options.max_imu_gap_ns) {
-      ++out.imu_factors_skipped;
+      ++*skipped;
       continue;
     }
-    in.imu_factors.push_back({*i, j, std::move(pim)});
+    factors.push_back({*i, j, std::move(pim)});
   }
-  return out;
+  return factors;
 }
 
 }  // namespace hs

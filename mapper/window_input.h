@@ -4,8 +4,9 @@
 // close the IMU chain, every observation of the window's points, and IMU factors between
 // consecutive keyframes of the set.
 #include <cstdint>
+#include <set>
+#include <vector>
 
-#include "common/calib/camera_calib.h"
 #include "common/imu/imu_options.h"
 #include "mapper/keyframe_graph.h"
 #include "mapper/local_ba.h"
@@ -27,11 +28,16 @@ struct WindowInput {
   int imu_factors_skipped = 0;  // intervals whose IMU has a gap
 };
 
-// Stereo keypoints (u_right and depth known) become two observations. The images are not
-// rectified and KEYFRAME carries only the right column, so the right view's row is the
-// projection of the keypoint's stereo point into cam1: that row says little about depth, the
-// column carries the stereo constraint.
+// Stereo keypoints (a right pixel known) become two observations, one per camera: the images
+// are not rectified, so the right view is a full 2D measurement. Points seen by a single
+// keyframe are left out.
 WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
-                         const StereoCalib& calib, const WindowInputOptions& options);
+                         const WindowInputOptions& options);
+
+// IMU factors along the graph's chain between keyframes of `all`, except where both ends are
+// in `fixed`; intervals with an IMU gap get none and are counted in `skipped`.
+std::vector<BaImuFactor> chain_imu_factors(const KeyframeGraph& graph, const std::set<int64_t>& all,
+                                           const std::set<int64_t>& fixed,
+                                           const WindowInputOptions& options, int* skipped);
 
 }  // namespace hs

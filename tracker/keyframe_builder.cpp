@@ -117,7 +117,7 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
   kf->features.keypoints = std::move(keypoints);
   kf->point_ids = std::move(kept_ids);
   const size_t n = kf->features.size();
-  kf->u_right.assign(n, -1.f);
+  kf->uv_right.assign(n, Eigen::Vector2f(-1.f, -1.f));
   kf->depth.assign(n, -1.f);
 
   for (size_t i = 0; i < n; ++i) {
@@ -182,14 +182,14 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
   const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
   for (size_t k = num_new; k < chosen.size(); ++k) {
     if (!matches[k].valid) continue;
-    kf.u_right[chosen[k]] = static_cast<float>(matches[k].uv1.x());
+    kf.uv_right[chosen[k]] = matches[k].uv1.cast<float>();
     kf.depth[chosen[k]] = static_cast<float>(matches[k].p_c0.z());
   }
   for (size_t k = 0; k < num_new; ++k) {
     if (!matches[k].valid) continue;
     const int i = chosen[k];
     ++st.stereo_matched;
-    kf.u_right[i] = static_cast<float>(matches[k].uv1.x());
+    kf.uv_right[i] = matches[k].uv1.cast<float>();
     kf.depth[i] = static_cast<float>(matches[k].p_c0.z());
     MapPoint p;
     p.id = map.new_point_id();

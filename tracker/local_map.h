@@ -40,9 +40,9 @@ struct Keyframe {
   cv::Mat thumbnail;               // coarsest pyramid level, kept for global relocalisation (Eq. 8)
   OrbFeatures features;            // cam0 keypoints and descriptors
   std::vector<int64_t> point_ids;  // per keypoint: the map point it observes, -1 if none
-  std::vector<float> u_right;      // per keypoint: cam1 column, -1 if none
-  std::vector<float> depth;        // per keypoint: depth in cam0, -1 if none
-  std::vector<ImuSample> imu;      // samples since the previous keyframe
+  std::vector<Eigen::Vector2f> uv_right;  // per keypoint: raw cam1 pixel, (-1, -1) if none
+  std::vector<float> depth;               // per keypoint: depth in cam0, -1 if none
+  std::vector<ImuSample> imu;             // samples since the previous keyframe
   // Per keypoint, the observed point's position frozen when the keyframe left the window (its
   // points may leave the map; relocalisation still needs them). Empty while in the window.
   std::vector<Eigen::Vector3d> frozen_p_w;

@@ -43,6 +43,7 @@ class PoseOptimizer {
                                   const PreviousState& previous) const;
 
   const PoseOptOptions& options() const { return options_; }
+  void set_gravity(const Eigen::Vector3d& g_w) { g_w_ = g_w; }
 
  private:
   PoseOptOptions options_;

@@ -1,4 +1,6 @@
 // Tracker::apply: mapper corrections of the tracker's map and state.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "tracker/tracker.h"
@@ -29,6 +31,15 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
     }
   }
   if (!anchor) return ignore("it names no keyframe the tracker still has");
+  const bool has_gravity = !c.g_w.isZero();
+  if (has_gravity) {
+    const double tilt = std::acos(std::clamp(-c.g_w.normalized().z(), -1.0, 1.0));
+    const double magnitude_error = std::abs(c.g_w.norm() / kGravityMagnitude - 1.0);
+    if (!(tilt <= options_.corrections.max_gravity_tilt_rad) ||
+        !(magnitude_error <= options_.corrections.max_gravity_magnitude_error))
+      return ignore("its gravity is " + std::to_string(tilt * 180.0 / M_PI) + " deg off -z and " +
+                    std::to_string(c.g_w.norm()) + " m/s^2");
+  }
   const Eigen::Isometry3d delta = anchor->state.T_w_b() * anchor_kf->state.T_w_b().inverse();
 
   for (const KeyframeCorrection& k : c.keyframes) {
@@ -53,6 +64,10 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
     nav.accel_bias = anchor->state.accel_bias;
   }
   last_keyframe_T_w_c_ = delta * last_keyframe_T_w_c_;
+  if (has_gravity) {
+    g_w_ = c.g_w;
+    optimizer_.set_gravity(g_w_);
+  }
   ++counters_.corrections_applied;
   out.applied = true;
   out.shift_m = (nav.p_w_b - p_before).norm();

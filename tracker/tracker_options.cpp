@@ -140,6 +140,10 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read_degrees("max_silent_rotation_deg", c.max_silent_rotation_rad);
     if (!(c.max_silent_translation_m >= 0 && c.max_silent_rotation_rad >= 0))
       s.fail("max_silent_translation_m", "must be >= 0");
+    s.read_degrees("max_gravity_tilt_deg", c.max_gravity_tilt_rad);
+    s.read("max_gravity_magnitude_error", c.max_gravity_magnitude_error);
+    if (!(c.max_gravity_tilt_rad >= 0 && c.max_gravity_magnitude_error >= 0))
+      s.fail("max_gravity_tilt_deg", "must be >= 0");
   });
   top.section("node", [&](ConfigSection& s) { read_node(s, o.node); });
   o.channels = read_channel_names(top);

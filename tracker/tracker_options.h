@@ -34,9 +34,14 @@ struct RelocGateOptions {
 
 // Mapper corrections (MAP_UPDATE) move the current pose with the newest corrected keyframe.
 // A larger move is a jump a POSE consumer must be told of: the map id changes.
+// The mapper's gravity is adopted when it is this close to the world's -z and to 9.81 m/s^2:
+// a world levelled at rest is off by the accelerometer bias (0.1 m/s^2 is 0.6 deg), more is
+// a broken mapper.
 struct CorrectionOptions {
   double max_silent_translation_m = 0.02;
   double max_silent_rotation_rad = 0.5 * M_PI / 180.0;
+  double max_gravity_tilt_rad = 5.0 * M_PI / 180.0;
+  double max_gravity_magnitude_error = 0.05;  // relative
 };
 
 struct TrackerOptions {

@@ -1,6 +1,6 @@
 #pragma once
 // A mapper's correction of the tracker's map (the MAP_UPDATE channel as plain data): refined
-// keyframe states and point positions, and the points the mapper found to be outliers.
+// keyframe states and point positions, the points the mapper found to be outliers, gravity.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -26,6 +26,10 @@ struct MapCorrection {
   std::vector<KeyframeCorrection> keyframes;
   std::vector<PointCorrection> points;
   std::vector<int64_t> removed_points;
+  // Gravity in the tracker's world as the mapper estimates it: the world was levelled at rest
+  // with a biased accelerometer, and the corrected states are consistent with this gravity, not
+  // with the world's -z. Zero: the mapper does not estimate it.
+  Eigen::Vector3d g_w = Eigen::Vector3d::Zero();
 };
 
 }  // namespace hs

@@ -255,6 +255,7 @@ hsslam::map_update_t map_update_to_msg(const MapCorrection& c) {
     msg.points.push_back(m);
   }
   msg.removed_point_ids = c.removed_points;
+  copy3(c.g_w, msg.g_w);
   msg.num_keyframes = static_cast<int32_t>(msg.keyframes.size());
   msg.num_points = static_cast<int32_t>(msg.points.size());
   msg.num_removed_points = static_cast<int32_t>(msg.removed_point_ids.size());
@@ -285,7 +286,9 @@ MapCorrection map_correction_from_msg(const hsslam::map_update_t& msg, const std
     if (id < 0 || !seen.insert(id).second)
       fail(std::string(what) + " id " + std::to_string(id) + (id < 0 ? " negative" : " twice"));
   };
+  check_finite(msg.g_w, 3, where, "g_w");
   MapCorrection c;
+  c.g_w = Eigen::Map<const Eigen::Vector3d>(msg.g_w);
   c.seq = msg.seq;
   c.map_id = msg.map_id;
   c.t_ns = msg.t_ns;

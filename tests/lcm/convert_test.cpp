@@ -262,6 +262,7 @@ TEST(ConvertMapUpdate, RoundTripAndChecks) {
   c.keyframes = {{7, some_state()}, {9, some_state()}};
   c.points = {{3, Eigen::Vector3d(1, 2, 3)}, {5, Eigen::Vector3d(-1, 0, 2)}};
   c.removed_points = {11};
+  c.g_w = Eigen::Vector3d(0.05, -0.02, -9.8);
   const hsslam::map_update_t msg = map_update_to_msg(c);
   EXPECT_EQ(msg.kind, hsslam::map_update_t::LOCAL_BA);
   EXPECT_EQ(msg.previous_map_id, 1);
@@ -276,6 +277,7 @@ TEST(ConvertMapUpdate, RoundTripAndChecks) {
   ASSERT_EQ(back.points.size(), 2u);
   EXPECT_EQ(back.points[1].p_w, c.points[1].p_w);
   EXPECT_EQ(back.removed_points, c.removed_points);
+  EXPECT_EQ(back.g_w, c.g_w);
 
   const auto error = [](const hsslam::map_update_t& m) {
     return input_error_of([&] { map_correction_from_msg(m, "MAP_UPDATE"); });
@@ -298,6 +300,9 @@ TEST(ConvertMapUpdate, RoundTripAndChecks) {
   bad = msg;
   bad.removed_point_ids[0] = -2;
   EXPECT_THAT(error(bad), HasSubstr("removed point id -2 negative"));
+  bad = msg;
+  bad.g_w[0] = INFINITY;
+  EXPECT_THAT(error(bad), HasSubstr("g_w[0] is not finite"));
 }
 
 TEST(ConvertEncoding, Names) {

@@ -49,6 +49,7 @@ inline hsslam::keyframe_t keyframe_msg(int64_t id, int64_t prev_id,
     k.u = 20.f + 10.f * static_cast<float>(i);
     k.v = 100.f;
     k.u_right = k.u - 8.f;
+    k.v_right = k.v + 0.5f;
     k.depth = 5.f;
     k.octave = octave;
     k.angle = 45.f;

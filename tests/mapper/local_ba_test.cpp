@@ -286,6 +286,35 @@ TEST_F(LocalBaScene, TiltedGravityDirectionIsEstimated) {
   EXPECT_GT(e_held.max_accel_bias, 2.0 * e_estimated.max_accel_bias);
 }
 
+TEST_F(LocalBaScene, InertialOnlyOnHeldPosesFindsGravityVelocitiesAndBiases) {
+  // The mapper's IMU refinement: no points, the poses where the visual BA put them (here the
+  // truth), gravity 1 deg off, velocities 0.1 m/s off and biases unknown.
+  test::BaSceneOptions o;
+  o.num_keyframes = 30;
+  test::BaScene scene = make(o, 0);
+  scene.input.points.clear();
+  scene.input.observations.clear();
+  for (size_t k = 0; k < scene.input.keyframes.size(); ++k) {
+    NavState& x = scene.input.keyframes[k].state;
+    x.p_w_b = truth_.keyframes[k].state.p_w_b;
+    x.q_w_b = truth_.keyframes[k].state.q_w_b;
+    scene.input.keyframes[k].pose_fixed = true;
+  }
+  scene.input.gravity = {
+      Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d(1, -1, 0).normalized()) * default_gravity_w(),
+      2.0 * kDeg};
+  const LocalBaResult r = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+
+  const double tilt = std::acos(std::clamp(-r.g_w.normalized().z(), -1.0, 1.0));
+  EXPECT_LT(tilt, 0.05 * kDeg);
+  const Errors e = state_errors(r.keyframes, truth_.keyframes);
+  EXPECT_EQ(e.max_translation_m, 0.0);  // poses held
+  EXPECT_LT(e.max_rotation_rad, 1e-12);
+  EXPECT_LT(e.max_velocity_mps, 0.01);
+  EXPECT_LT(e.max_gyro_bias, 2e-4);
+  EXPECT_LT(e.max_accel_bias, 0.02);
+}
+
 TEST_F(LocalBaScene, WithoutFixedKeyframesTheOldestPoseIsHeld) {
   test::BaScene scene = make({}, 0);
   // The oldest keyframe starts at the truth (its pose fixes the gauge), listed last.

@@ -16,7 +16,9 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.graph.window_covisible, d.graph.window_covisible);
   EXPECT_EQ(c.mapper.window.pixel_sigma, d.window.pixel_sigma);
   EXPECT_EQ(c.mapper.window.max_imu_gap_ns, d.window.max_imu_gap_ns);
-  EXPECT_NEAR(c.mapper.gravity_step_sigma_rad, d.gravity_step_sigma_rad, 1e-15);
+  EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);
+  EXPECT_EQ(c.mapper.inertial.max_keyframes, d.inertial.max_keyframes);
+  EXPECT_NEAR(c.mapper.inertial.gravity_prior_sigma_rad, d.inertial.gravity_prior_sigma_rad, 1e-15);
   EXPECT_EQ(c.mapper.ba.time_budget_ms, d.ba.time_budget_ms);
   EXPECT_EQ(c.mapper.culling.max_imu_span_ns, d.culling.max_imu_span_ns);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
@@ -24,11 +26,11 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
 
 TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   const TempYaml ok(
-      "mapper:\n  pixel_sigma: 0.5\n  gravity_step_deg: 0\nlocal_ba:\n"
+      "mapper:\n  pixel_sigma: 0.5\ninertial:\n  every_keyframes: 0\nlocal_ba:\n"
       "  time_budget_ms: 40\nculling:\n  max_imu_span_s: 0.25\n");
   const MapperConfig c = load_mapper_config(ok.path());
   EXPECT_EQ(c.mapper.window.pixel_sigma, 0.5);
-  EXPECT_EQ(c.mapper.gravity_step_sigma_rad, 0.0);
+  EXPECT_EQ(c.mapper.inertial.every_keyframes, 0);
   EXPECT_EQ(c.mapper.ba.time_budget_ms, 40.0);
   EXPECT_EQ(c.mapper.culling.max_imu_span_ns, 250'000'000);
 

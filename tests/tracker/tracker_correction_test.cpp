@@ -92,5 +92,30 @@ TEST_F(TrackerCorrection, StaleOrForeignCorrectionsAreIgnoredAndPointsRemoved) {
   EXPECT_EQ(track_range(30, 31).state, TrackState::kTracking);
 }
 
+TEST_F(TrackerCorrection, MapperGravityIsAdoptedWhenPlausible) {
+  ASSERT_EQ(track_range(0, 30).state, TrackState::kTracking);
+  EXPECT_EQ(tracker_->gravity_w(), default_gravity_w());
+  MapCorrection c = rigid_correction(*tracker_, shift(0.0), 0);
+  c.g_w = Eigen::AngleAxisd(0.4 * M_PI / 180.0, Eigen::Vector3d::UnitX()) * default_gravity_w();
+  ASSERT_TRUE(tracker_->apply(c).applied);
+  EXPECT_EQ(tracker_->gravity_w(), c.g_w);
+
+  // 10 deg off the world's -z, or 20% too strong: a broken mapper, not an accelerometer bias.
+  MapCorrection tilted = rigid_correction(*tracker_, shift(0.0), 0);
+  tilted.g_w =
+      Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) * default_gravity_w();
+  CorrectionResult r = tracker_->apply(tilted);
+  EXPECT_FALSE(r.applied);
+  EXPECT_NE(r.message.find("gravity is 10"), std::string::npos) << r.message;
+  MapCorrection strong = rigid_correction(*tracker_, shift(0.0), 0);
+  strong.g_w = 1.2 * default_gravity_w();
+  EXPECT_FALSE(tracker_->apply(strong).applied);
+  EXPECT_EQ(tracker_->gravity_w(), c.g_w);
+  // Zero: the mapper does not estimate gravity; the tracker keeps what it has.
+  ASSERT_TRUE(tracker_->apply(rigid_correction(*tracker_, shift(0.0), 0)).applied);
+  EXPECT_EQ(tracker_->gravity_w(), c.g_w);
+  EXPECT_EQ(track_range(30, 31).state, TrackState::kTracking);
+}
+
 }  // namespace
 }  // namespace hs

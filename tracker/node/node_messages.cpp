@@ -86,7 +86,8 @@ hsslam::keyframe_t keyframe_msg(const Keyframe& kf, const LocalMap& map, int32_t
     hsslam::keypoint_t kp;
     kp.u = k.pt.x;
     kp.v = k.pt.y;
-    kp.u_right = kf.u_right.at(i);
+    kp.u_right = kf.uv_right.at(i).x();
+    kp.v_right = kf.uv_right.at(i).y();
     kp.depth = kf.depth.at(i);
     kp.octave = static_cast<int8_t>(k.octave);
     kp.angle = k.angle;

@@ -36,7 +36,7 @@ std::optional<NavState> PoseImuPropagator::propagate(int64_t t_ns) const {
   bias.accel = anchor_->nav.accel_bias;
   const std::vector<ImuSample> window(samples_.begin(), samples_.end());
   const ImuPreintegration pim = preintegrate(window, anchor_->nav.t_ns, t_ns, bias, imu_);
-  NavState s = predict(anchor_->nav, pim, default_gravity_w());
+  NavState s = predict(anchor_->nav, pim, anchor_->g_w);
   s.t_ns = t_ns;
   return s;
 }

@@ -8,6 +8,7 @@
 
 #include "common/core/types.h"
 #include "common/imu/imu_options.h"
+#include "common/imu/imu_residual.h"
 #include "tracker/tracker_types.h"
 
 namespace hs {
@@ -17,6 +18,7 @@ struct PoseAnchor {
   TrackState state = TrackState::kTracking;
   int32_t map_id = 0;
   float quality = 0.0f;
+  Eigen::Vector3d g_w = default_gravity_w();  // the tracker's at the anchor
 };
 
 class PoseImuPropagator {

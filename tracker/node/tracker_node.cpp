@@ -244,7 +244,7 @@ void TrackerNode::track(Tracker& tracker, const StereoFrame& frame) {
     stats_.poses_published += has_state;
     stats_.keyframes_published += r.keyframe != nullptr;
     if (has_state) {
-      new_anchor_ = PoseAnchor{r.nav, r.state, r.map_id, r.quality};
+      new_anchor_ = PoseAnchor{r.nav, r.state, r.map_id, r.quality, tracker.gravity_w()};
       new_anchor_->nav.t_ns = r.t_ns;
       state_ = r.state;
     }

@@ -276,11 +276,14 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   if (!eval_error.empty()) o << "no evaluation: " << eval_error << "\n";
   if (eval) {
     o << summary_text(*eval);
+    // The ground truth beside the estimate, so hs-eval's other options (Sim(3), RPE deltas) and
+    // evo can be run on the pair.
+    save_tum(out_dir + "/groundtruth.tum", result.ground_truth_trajectory());
     write_file_atomically(out_dir + "/eval.json", to_json(*eval).dump(2) + "\n");
     write_plot(out_dir + "/eval.png", *eval, "HS-SLAM tracker vs ground truth");
   }
   o << "outputs: " << out_dir << "/{trajectory.tum, timing.csv"
-    << (eval ? ", eval.json, eval.png" : "") << "}\n";
+    << (eval ? ", groundtruth.tum, eval.json, eval.png" : "") << "}\n";
   return o.str();
 }
 

@@ -1,0 +1,34 @@
+#pragma once
+// IMU refinement after the start (issue 6): an inertial-only optimisation of gravity direction,
+// velocities and biases over a long stretch of the keyframe chain, the poses held where the
+// visual bundle adjustment put them (as ORB-SLAM3's inertial-only step). A world levelled at
+// rest with a biased accelerometer is tilted (0.1 m/s^2 is 0.6 deg); gravity and accelerometer
+// bias only separate as the body turns, over seconds, not within a local BA window. A prior
+// around the previous estimate keeps a static or unexciting stretch where it is: it converges
+// when the motion allows and never waits or loops.
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+
+#include "mapper/keyframe_graph.h"
+#include "mapper/local_ba.h"
+#include "mapper/window_input.h"
+
+namespace hs {
+
+struct InertialRefinementOptions {
+  int every_keyframes = 10;    // run after every n-th keyframe (0: never, gravity held at -z)
+  size_t max_keyframes = 150;  // the newest keyframes of the chain
+  size_t min_keyframes = 10;   // fewer linked keyframes: not run
+  double gravity_prior_sigma_rad = 2.0 * M_PI / 180.0;  // around the previous estimate
+};
+
+// The newest keyframes of `newest`'s IMU chain (up to max_keyframes, walking back by
+// imu_predecessor), all with poses held, and the IMU factors between them; empty keyframes when
+// fewer than min_keyframes are linked.
+LocalBaInput inertial_refinement_input(const KeyframeGraph& graph, int64_t newest,
+                                       const Eigen::Vector3d& g_w,
+                                       const InertialRefinementOptions& options,
+                                       const WindowInputOptions& window, int* imu_skipped);
+
+}  // namespace hs
