@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <climits>
+#include <functional>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -169,11 +171,18 @@ LocalWindow KeyframeGraph::local_window(int64_t id) const {
   for (int64_t k : window)
     for (const MapperKeypoint& kp : node(k).kf.keypoints)
       if (kp.point_id >= 0) points.insert(kp.point_id);
-  std::set<int64_t> fixed;
+  std::map<int64_t, int> seen;  // fixed candidate -> window points it sees
   for (int64_t p : points)
     for (const Observation& o : points_.at(p).observations)
       if (!window.count(o.keyframe_id) && node(o.keyframe_id).kf.map_id == map_id)
-        fixed.insert(o.keyframe_id);
+        ++seen[o.keyframe_id];
+  std::vector<std::pair<int, int64_t>> ranked;  // most points first, then newest
+  for (const auto& [k, n] : seen) ranked.emplace_back(n, k);
+  std::sort(ranked.begin(), ranked.end(), std::greater<>());
+  if (options_.max_fixed_keyframes > 0 && ranked.size() > options_.max_fixed_keyframes)
+    ranked.resize(options_.max_fixed_keyframes);
+  std::set<int64_t> fixed;
+  for (const auto& [n, k] : ranked) fixed.insert(k);
   return {
       {window.begin(), window.end()}, {points.begin(), points.end()}, {fixed.begin(), fixed.end()}};
 }

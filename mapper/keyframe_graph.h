@@ -23,6 +23,9 @@ namespace hs {
 struct KeyframeGraphOptions {
   size_t window_covisible = 10;  // local window: the reference + this many most covisible
   int window_min_shared = 1;     // ... sharing at least this many points with it
+  // Keyframes outside the window that see its points are held fixed: the ones seeing the most
+  // of them, up to this many (0: all). Each adds its observations to the BA's cost.
+  size_t max_fixed_keyframes = 0;
 };
 
 struct Observation {

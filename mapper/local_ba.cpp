@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "common/core/monotonic_clock.h"
 #include "mapper/local_ba_problem.h"
 
 namespace hs {
@@ -12,6 +13,7 @@ LocalBundleAdjuster::LocalBundleAdjuster(const StereoCalib& calib, const LocalBa
 LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  const double cpu_start_s = thread_cpu_s();
   const auto elapsed_ms = [&] {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   };
@@ -39,6 +41,7 @@ LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
     result.stats.num_outliers += result.outliers[k];
   }
   result.stats.time_ms = elapsed_ms();
+  result.stats.cpu_ms = 1e3 * (thread_cpu_s() - cpu_start_s);
   return result;
 }
 

@@ -22,7 +22,9 @@ namespace hs {
 
 struct LocalBaOptions {
   int iterations_per_round = 10;  // Levenberg-Marquardt iterations
-  bool reject_outliers = true;    // second round without the chi2 outliers of the first
+  // A round stops when an iteration lowers the cost by less than this share.
+  double function_tolerance = 1e-6;
+  bool reject_outliers = true;  // second round without the chi2 outliers of the first
   // Wall-clock limit over both rounds; the solver stops with its current estimate.
   double time_budget_ms = 100.0;
   double chi2_threshold = 5.991;  // 95% of chi2 with 2 DoF: Huber threshold and outlier test
@@ -84,6 +86,7 @@ struct LocalBaStats {
   int rounds = 0;
   int num_outliers = 0;
   double time_ms = 0.0;  // wall clock of the whole call
+  double cpu_ms = 0.0;   // this thread's CPU time of it (other load on the cores does not count)
 };
 
 struct LocalBaResult {

@@ -18,6 +18,10 @@ MapperConfig load_mapper_config(const std::string& path) {
     if (window < 1) s.fail("window_covisible", "must be >= 1");
     o.graph.window_covisible = static_cast<size_t>(window);
     s.read("window_min_shared", o.graph.window_min_shared);
+    int max_fixed = static_cast<int>(o.graph.max_fixed_keyframes);
+    s.read("max_fixed_keyframes", max_fixed);
+    if (max_fixed < 0) s.fail("max_fixed_keyframes", "must be >= 0");
+    o.graph.max_fixed_keyframes = static_cast<size_t>(max_fixed);
     s.read("pixel_sigma", o.window.pixel_sigma);
     s.read("octave_scale", o.window.octave_scale);
     if (!(o.window.pixel_sigma > 0) || !(o.window.octave_scale >= 1.0))
@@ -33,6 +37,9 @@ MapperConfig load_mapper_config(const std::string& path) {
   top.section("local_ba", [&](ConfigSection& s) {
     LocalBaOptions& b = o.ba;
     s.read("iterations_per_round", b.iterations_per_round);
+    s.read("function_tolerance", b.function_tolerance);
+    if (!(b.function_tolerance > 0 && b.function_tolerance < 1))
+      s.fail("function_tolerance", "must be in (0, 1)");
     s.read("reject_outliers", b.reject_outliers);
     s.read("time_budget_ms", b.time_budget_ms);
     s.read("chi2_threshold", b.chi2_threshold);

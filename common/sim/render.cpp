@@ -1,4 +1,5 @@
 #include "common/sim/render.h"
+#include "common/core/monotonic_clock.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,13 +42,6 @@ inline float fast_log2(float x) {
   float m;
   std::memcpy(&m, &bits, sizeof m);
   return e + (-0.34484843f * m + 2.02466578f) * m - 1.67487759f;
-}
-
-// Stage times are CPU time of this thread, so they stay meaningful on a loaded machine.
-int64_t thread_cpu_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return int64_t{ts.tv_sec} * 1000000000 + ts.tv_nsec;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@ void MapperRunStats::add(const MapperStep& step) {
   if (step.inertial) inertial_ms.push_back(step.inertial->time_ms);
   if (step.ba.rounds == 0) return;
   ba_ms.push_back(step.ba.time_ms);
+  ba_cpu_ms.push_back(step.ba.cpu_ms);
   window_keyframes.push_back(step.window_keyframes);
   window_points.push_back(step.window_points);
   window_observations.push_back(step.window_observations);
@@ -50,13 +51,13 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
   o.precision(3);
   o << "mapper: " << counters.keyframes << " keyframes, " << counters.local_ba_runs
     << " local BAs (median " << ba.median << " ms, p95 " << ba.p95 << " ms, max " << ba.max
-    << " ms, " << mean(stats.ba_iterations) << " iterations; window "
-    << mean(stats.window_keyframes) << " keyframes, " << mean(stats.window_points) << " points, "
-    << mean(stats.window_observations) << " reprojection terms), culled keyframes "
-    << counters.culled_keyframes << ", removed points " << counters.removed_points
-    << ", IMU factors skipped (gaps) " << counters.imu_factors_skipped << "; inertial refinements "
-    << counters.inertial_refinements << " (median " << time_stats(stats.inertial_ms).median
-    << " ms); gravity "
+    << " ms; CPU median " << time_stats(stats.ba_cpu_ms).median << " ms; "
+    << mean(stats.ba_iterations) << " iterations; window " << mean(stats.window_keyframes)
+    << " keyframes, " << mean(stats.window_points) << " points, " << mean(stats.window_observations)
+    << " reprojection terms), culled keyframes " << counters.culled_keyframes << ", removed points "
+    << counters.removed_points << ", IMU factors skipped (gaps) " << counters.imu_factors_skipped
+    << "; inertial refinements " << counters.inertial_refinements << " (median "
+    << time_stats(stats.inertial_ms).median << " ms); gravity "
     << std::acos(std::clamp(-mapper.gravity_w().normalized().z(), -1.0, 1.0)) * 180.0 / M_PI
     << " deg from the tracker world's -z\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median

@@ -11,6 +11,7 @@ namespace hs {
 
 struct MapperRunStats {
   std::vector<double> ba_ms;        // wall time per local BA
+  std::vector<double> ba_cpu_ms;    // its thread CPU time
   std::vector<double> inertial_ms;  // per inertial refinement
   std::vector<double> window_keyframes, window_points, window_observations, ba_iterations;
   void add(const MapperStep& step);

@@ -131,6 +131,25 @@ TEST(KeyframeGraph, LocalWindowHoldsTheCovisibleSetAndFixesTheOtherObservers) {
   EXPECT_EQ(alone.fixed_keyframes, (std::vector<int64_t>{1, 3}));
 }
 
+TEST(KeyframeGraph, FixedKeyframesAreCappedToThoseSeeingMostOfTheWindow) {
+  const auto graph = [](size_t max_fixed) {
+    KeyframeGraphOptions options;
+    options.window_covisible = 0;  // the window is keyframe 10 alone
+    options.max_fixed_keyframes = max_fixed;
+    KeyframeGraph g(options);
+    g.insert(keyframe(1, -1, ids(0, 2)));  // sees 3 of the window's points
+    g.insert(keyframe(2, -1, ids(0, 9)));  // 10
+    g.insert(keyframe(3, -1, ids(0, 5)));  // 6
+    g.insert(keyframe(10, -1, ids(0, 19)));
+    return g;
+  };
+  EXPECT_EQ(graph(0).local_window(10).fixed_keyframes, (std::vector<int64_t>{1, 2, 3}));
+  const LocalWindow w = graph(2).local_window(10);
+  EXPECT_EQ(w.keyframes, (std::vector<int64_t>{10}));
+  EXPECT_EQ(w.points, ids(0, 19));
+  EXPECT_EQ(w.fixed_keyframes, (std::vector<int64_t>{2, 3}));
+}
+
 TEST(KeyframeGraph, ChainBreaksAtAMissingKeyframeAndHealsIfItArrivesLate) {
   KeyframeGraph g;
   g.insert(keyframe(0, -1, ids(0, 9)));

@@ -16,6 +16,9 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.graph.window_covisible, d.graph.window_covisible);
   EXPECT_EQ(c.mapper.window.pixel_sigma, d.window.pixel_sigma);
   EXPECT_EQ(c.mapper.window.max_imu_gap_ns, d.window.max_imu_gap_ns);
+  EXPECT_EQ(c.mapper.graph.max_fixed_keyframes, d.graph.max_fixed_keyframes);
+  EXPECT_EQ(c.mapper.ba.function_tolerance, d.ba.function_tolerance);
+  EXPECT_NEAR(c.mapper.window_gravity_sigma_rad, d.window_gravity_sigma_rad, 1e-15);
   EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);
   EXPECT_EQ(c.mapper.inertial.max_keyframes, d.inertial.max_keyframes);
   EXPECT_NEAR(c.mapper.inertial.gravity_prior_sigma_rad, d.inertial.gravity_prior_sigma_rad, 1e-15);

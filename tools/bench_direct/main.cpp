@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/calib/camera_calib.h"
+#include "common/core/monotonic_clock.h"
 #include "common/imu/so3.h"
 #include "tests/tracker/direct_scene.h"
 #include "tracker/direct_align.h"
@@ -21,12 +22,6 @@
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 Eigen::Isometry3d make_pose(const Eigen::Vector3d& t, const Eigen::Vector3d& rotvec) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -44,9 +39,9 @@ Stats time_it(int repeats, const std::function<void()>& fn) {
   fn();
   std::vector<double> ms;
   for (int i = 0; i < repeats; ++i) {
-    const double t0 = thread_cpu_s();
+    const double t0 = hs::thread_cpu_s();
     fn();
-    ms.push_back(1e3 * (thread_cpu_s() - t0));
+    ms.push_back(1e3 * (hs::thread_cpu_s() - t0));
   }
   std::sort(ms.begin(), ms.end());
   double sum = 0.0;

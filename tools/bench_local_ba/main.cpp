@@ -11,16 +11,11 @@
 #include <random>
 #include <vector>
 
+#include "common/core/monotonic_clock.h"
 #include "mapper/local_ba.h"
 #include "tests/mapper/local_ba_test_scene.h"
 
 namespace {
-
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
 // Value at quantile q (0..1) of `values` (reordered).
 double quantile(std::vector<double> values, double q) {
@@ -63,9 +58,9 @@ int main(int argc, char** argv) {
     const std::vector<hs::BaKeyframe> truth = scene.input.keyframes;
     hs::test::perturb(&scene.input, 0.05, 2.0 * EIGEN_PI / 180.0, 0.1, 0.05, &rng);
 
-    const double cpu_start = thread_cpu_ms();
+    const double cpu_start = 1e3 * hs::thread_cpu_s();
     const hs::LocalBaResult result = ba.optimise(scene.input);
-    cpu_ms.push_back(thread_cpu_ms() - cpu_start);
+    cpu_ms.push_back(1e3 * hs::thread_cpu_s() - cpu_start);
     wall_ms.push_back(result.stats.time_ms);
     observations += static_cast<double>(scene.input.observations.size()) / runs;
     iterations += static_cast<double>(result.stats.iterations) / runs;

@@ -9,18 +9,12 @@
 #include <ctime>
 #include <vector>
 
+#include "common/core/monotonic_clock.h"
 #include "tests/imu/analytic_motion.h"
 #include "tests/tracker/pose_opt_test_scene.h"
 #include "tracker/pose_opt.h"
 
 namespace {
-
-// CPU time of this thread, microseconds: other processes on the shared cores do not count.
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
 
 struct Case {
   std::vector<hs::PoseObservation> observations;
@@ -41,9 +35,9 @@ Figures time_cases(const std::vector<Case>& cases, int repeats, const Optimise& 
   Figures f;
   for (const Case& c : cases) {
     for (int r = 0; r < repeats; ++r) {
-      const double start = thread_cpu_us();
+      const double start = 1e6 * hs::thread_cpu_s();
       const hs::PoseOptResult result = optimise(c);
-      us.push_back(thread_cpu_us() - start);
+      us.push_back(1e6 * hs::thread_cpu_s() - start);
       f.iterations += result.iterations;
       f.valid_share += result.valid();
     }

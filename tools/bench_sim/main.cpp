@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/calib/camera_calib.h"
+#include "common/core/monotonic_clock.h"
 #include "common/sim/render.h"
 #include "common/sim/world_gen.h"
 
@@ -41,13 +42,6 @@ hs::sim::World room_world(int furniture) {
   return hs::sim::generate_world(spec, path, 7);
 }
 
-// CPU time of this thread: other jobs on a shared machine inflate wall time, not this.
-double thread_cpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 struct Settings {
   int frames = 200;
   double angular_speed = 1.0;  // rad/s along the circle (1.5 m/s)
@@ -58,14 +52,14 @@ struct Settings {
 void run(const char* title, const hs::sim::World& world, const hs::sim::RenderOptions& options,
          bool blur, const Settings& s) {
   const hs::StereoCalib calib = hs::euroc_stereo_calib();
-  const double cpu_build = thread_cpu_s();
+  const double cpu_build = hs::thread_cpu_s();
   hs::sim::Renderer cam0(world, calib.cam0.intrinsics, options);
   hs::sim::Renderer cam1(cam0, calib.cam1.intrinsics, options);
-  const double build_s = thread_cpu_s() - cpu_build;
+  const double build_s = hs::thread_cpu_s() - cpu_build;
   const Eigen::Isometry3d T_c0_c1 = calib.T_c0_c1();
 
   const auto wall0 = std::chrono::steady_clock::now();
-  const double cpu0 = thread_cpu_s();
+  const double cpu0 = hs::thread_cpu_s();
   for (int i = 0; i < s.frames; ++i) {
     const double a = i * kFrameS * s.angular_speed;
     const double da = s.angular_speed * s.exposure_ms * 1e-3;  // angle during the exposure
@@ -84,7 +78,7 @@ void run(const char* title, const hs::sim::World& world, const hs::sim::RenderOp
       cv::imwrite(s.save_dir + "/bench_cam1" + tag + ".png", img1);
     }
   }
-  const double cpu_s = thread_cpu_s() - cpu0;
+  const double cpu_s = hs::thread_cpu_s() - cpu0;
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
