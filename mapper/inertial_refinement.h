@@ -3,9 +3,11 @@
 // velocities and biases over a long stretch of the keyframe chain, the poses held where the
 // visual bundle adjustment put them (as ORB-SLAM3's inertial-only step). A world levelled at
 // rest with a biased accelerometer is tilted (0.1 m/s^2 is 0.6 deg); gravity and accelerometer
-// bias only separate as the body turns, over seconds, not within a local BA window. A prior
-// around the previous estimate keeps a static or unexciting stretch where it is: it converges
-// when the motion allows and never waits or loops.
+// bias only separate as the body turns, over seconds, not within a local BA window. The mapper
+// centres the gravity prior on the world's -z, not on the previous estimate: a chain of relative
+// priors is a random walk (one vehicle run wandered to 6 deg over a straight stretch), an absolute
+// one bounds the tilt by what the levelling can have got wrong. It converges when the motion
+// allows and never waits or loops.
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
@@ -20,7 +22,12 @@ struct InertialRefinementOptions {
   int every_keyframes = 10;    // run after every n-th keyframe (0: never, gravity held at -z)
   size_t max_keyframes = 150;  // the newest keyframes of the chain
   size_t min_keyframes = 10;   // fewer linked keyframes: not run
-  double gravity_prior_sigma_rad = 2.0 * M_PI / 180.0;  // around the previous estimate
+  double gravity_prior_sigma_rad = 1.0 * M_PI / 180.0;  // around the prior's g_w
+  // A result is adopted only with gravity within this of the world's -z: no accelerometer bias
+  // tilts the levelling by more (0.5 m/s^2 is 2.9 deg). A refinement goes beyond it when the
+  // chain's poses and IMU disagree; adopting it would spread that into every velocity and bias
+  // and tilt the tracker's world.
+  double max_tilt_rad = 3.0 * M_PI / 180.0;
 };
 
 // The newest keyframes of `newest`'s IMU chain (up to max_keyframes, walking back by

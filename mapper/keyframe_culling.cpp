@@ -17,8 +17,9 @@ bool points_seen_elsewhere(const KeyframeGraph& graph, const MapperKeyframe& kf,
     for (const Observation& o : graph.point(kp.point_id)->observations) {
       if (o.keyframe_id == kf.id || culled.count(o.keyframe_id)) continue;
       const MapperKeyframe& other = *graph.keyframe(o.keyframe_id);
-      if (other.map_id == kf.map_id && other.keypoints[static_cast<size_t>(o.keypoint)].octave <=
-                                           kp.octave + options.octave_slack)
+      if (graph.world(other.id) == graph.world(kf.id) &&
+          other.keypoints[static_cast<size_t>(o.keypoint)].octave <=
+              kp.octave + options.octave_slack)
         ++observers;
     }
     if (observers >= options.min_observers) ++covered;

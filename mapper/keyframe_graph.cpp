@@ -29,6 +29,13 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
   max_id_ = std::max(max_id_, kf.id);
   if (last_map_id_ && *last_map_id_ != kf.map_id) ++counters_.map_changes;
   last_map_id_ = kf.map_id;
+  if (const auto [w, fresh] = world_of_map_.try_emplace(kf.map_id, kf.map_id); fresh) {
+    const auto prev = keyframes_.find(kf.prev_id);
+    if (kf.prev_id >= 0 && prev != keyframes_.end())
+      w->second = world_of_map_.at(prev->second.kf.map_id);
+    else
+      ++counters_.new_worlds;
+  }
   if (kf.prev_id >= 0) {
     if (!successor_.emplace(kf.prev_id, kf.id).second) {
       ++counters_.forks;
@@ -41,6 +48,7 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
   const int64_t id = kf.id;
   Node& n = keyframes_[id];
   n.kf = std::move(kf);
+  const int32_t w = world_of_map_.at(n.kf.map_id);
   for (size_t i = 0; i < n.kf.keypoints.size(); ++i) {
     const int64_t point_id = n.kf.keypoints[i].point_id;
     if (point_id < 0) continue;
@@ -52,7 +60,7 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
       p.first_keyframe_id = id;
     }
     for (const Observation& o : p.observations)
-      if (keyframes_.at(o.keyframe_id).kf.map_id == n.kf.map_id) add_weight(id, o.keyframe_id, 1);
+      if (world(o.keyframe_id) == w) add_weight(id, o.keyframe_id, 1);
     p.observations.push_back({id, static_cast<int>(i)});
     update_descriptor(p);
   }
@@ -104,7 +112,7 @@ bool KeyframeGraph::remove_point(int64_t id) {
     MapperKeyframe& a = keyframes_.at(obs[i].keyframe_id).kf;
     a.keypoints[static_cast<size_t>(obs[i].keypoint)].point_id = -1;
     for (size_t j = i + 1; j < obs.size(); ++j)
-      if (keyframes_.at(obs[j].keyframe_id).kf.map_id == a.map_id)
+      if (world(obs[j].keyframe_id) == world(obs[i].keyframe_id))
         add_weight(obs[i].keyframe_id, obs[j].keyframe_id, -1);
   }
   points_.erase(it);
@@ -163,7 +171,7 @@ std::vector<int64_t> KeyframeGraph::most_covisible(int64_t id, size_t n) const {
 }
 
 LocalWindow KeyframeGraph::local_window(int64_t id) const {
-  const int32_t map_id = node(id).kf.map_id;
+  const int32_t w = world(id);
   std::set<int64_t> window{id};
   for (int64_t k : most_covisible(id, options_.window_covisible))
     if (shared_points(id, k) >= options_.window_min_shared) window.insert(k);
@@ -174,8 +182,7 @@ LocalWindow KeyframeGraph::local_window(int64_t id) const {
   std::map<int64_t, int> seen;  // fixed candidate -> window points it sees
   for (int64_t p : points)
     for (const Observation& o : points_.at(p).observations)
-      if (!window.count(o.keyframe_id) && node(o.keyframe_id).kf.map_id == map_id)
-        ++seen[o.keyframe_id];
+      if (!window.count(o.keyframe_id) && world(o.keyframe_id) == w) ++seen[o.keyframe_id];
   std::vector<std::pair<int, int64_t>> ranked;  // most points first, then newest
   for (const auto& [k, n] : seen) ranked.emplace_back(n, k);
   std::sort(ranked.begin(), ranked.end(), std::greater<>());
@@ -191,12 +198,16 @@ std::optional<int64_t> KeyframeGraph::imu_predecessor(int64_t id) const {
   const MapperKeyframe& kf = node(id).kf;
   if (kf.prev_id < 0 || kf.imu.empty()) return std::nullopt;
   const auto prev = keyframes_.find(kf.prev_id);
-  if (prev == keyframes_.end() || prev->second.kf.map_id != kf.map_id) return std::nullopt;
+  if (prev == keyframes_.end() || world(kf.prev_id) != world(id)) return std::nullopt;
   const int64_t t_prev = prev->second.kf.state.t_ns;
   // Samples are in time order: only the first (the interpolation bracket) may precede t_prev.
   if (t_prev >= kf.state.t_ns || (kf.imu.size() > 1 && kf.imu[1].t_ns < t_prev))
     return std::nullopt;
   return kf.prev_id;
+}
+
+int32_t KeyframeGraph::world(int64_t keyframe_id) const {
+  return world_of_map_.at(node(keyframe_id).kf.map_id);
 }
 
 std::optional<int64_t> KeyframeGraph::imu_successor(int64_t id) const {

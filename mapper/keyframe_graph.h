@@ -5,10 +5,13 @@
 // - a keyframe id seen before (even if since removed) is ignored and counted;
 // - a keyframe whose previous keyframe is absent is inserted and counted; its IMU link appears
 //   if the previous one arrives late (links are derived from prev ids when queried);
-// - map_id: each map id is its own graph component. A keyframe only gains covisibility with
-//   keyframes of its own map id, windows and fixed sets stay inside it, and the IMU chain is
-//   broken where the map id changes (the tracker stated a pose jump there). Point ids are unique
-//   across map ids, so a point seen from two map ids is one point with observations from both.
+// - worlds: a map id whose first keyframe names no previous keyframe (the tracker started a new
+//   map, its frame unrelated to the old) is a world of its own. A map id whose first keyframe
+//   continues one in the graph (the tracker stated a jump of its estimate, from a relocalisation
+//   or a mapper correction, in the same map) joins that keyframe's world. A keyframe only gains
+//   covisibility with keyframes of its own world, windows and fixed sets stay inside it, and the
+//   IMU chain never crosses worlds. Point ids are unique across map ids, so a point seen from
+//   two worlds is one point with observations from both.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -49,6 +52,7 @@ struct KeyframeGraphCounters {
   int64_t missing_prev = 0;  // previous keyframe absent on arrival (lost, late or removed)
   int64_t forks = 0;         // previous keyframe already has a successor: link dropped
   int64_t map_changes = 0;   // map id differs from the previously inserted keyframe's
+  int64_t new_worlds = 0;    // map ids that started a world (not continuing one)
 };
 
 // Keyframes and points a local bundle adjustment works on (ids ascending).
@@ -88,8 +92,10 @@ class KeyframeGraph {
   std::vector<int64_t> most_covisible(int64_t id, size_t n) const;
   LocalWindow local_window(int64_t id) const;
 
-  // The previous keyframe if an IMU factor may join the two: it is present, of the same map
-  // id, and `id` has IMU samples, none but the first before the previous keyframe's time.
+  // The world (see above) of a keyframe's map id.
+  int32_t world(int64_t keyframe_id) const;
+  // The previous keyframe if an IMU factor may join the two: it is present, of the same
+  // world, and `id` has IMU samples, none but the first before the previous keyframe's time.
   std::optional<int64_t> imu_predecessor(int64_t id) const;
   // The keyframe whose imu_predecessor is `id`, if any.
   std::optional<int64_t> imu_successor(int64_t id) const;
@@ -111,6 +117,7 @@ class KeyframeGraph {
   std::unordered_set<int64_t> seen_ids_;
   int64_t max_id_ = -1;
   std::optional<int32_t> last_map_id_;
+  std::unordered_map<int32_t, int32_t> world_of_map_;  // map id -> world (the first map id's)
   KeyframeGraphCounters counters_;
 };
 

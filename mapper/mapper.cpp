@@ -87,12 +87,25 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
 
 void Mapper::refine_inertial(int64_t newest, MapperStep& step) {
   int skipped = 0;  // counted by the local BA's window too: not counted twice
-  const LocalBaInput input =
-      inertial_refinement_input(graph_, newest, g_w_, options_.inertial, options_.window, &skipped);
+  const LocalBaInput input = inertial_refinement_input(
+      graph_, newest, default_gravity_w(), options_.inertial, options_.window, &skipped);
   if (input.keyframes.empty()) return;
-  const LocalBaResult result = ba_.optimise(input);
-  ++counters_.inertial_refinements;
+  LocalBaResult result;
+  try {
+    result = ba_.optimise(input);
+  } catch (const std::invalid_argument& e) {
+    step.message = std::string("IMU refinement refused its input: ") + e.what();
+    return;
+  }
   step.inertial = result.stats;
+  if (const double tilt = gravity_tilt_rad(result.g_w); !(tilt <= options_.inertial.max_tilt_rad)) {
+    ++counters_.inertial_refinements_rejected;
+    step.message = "IMU refinement over " + std::to_string(input.keyframes.size()) +
+                   " keyframes not adopted: gravity " + std::to_string(tilt * 180.0 / M_PI) +
+                   " deg off -z";
+    return;
+  }
+  ++counters_.inertial_refinements;
   g_w_ = result.g_w;
   for (const BaKeyframe& k : result.keyframes) graph_.set_state(k.id, k.state);
 }

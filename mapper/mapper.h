@@ -43,7 +43,8 @@ struct MapperOptions {
 struct MapperCounters {
   int64_t keyframes = 0;  // accepted into the graph
   int64_t local_ba_runs = 0;
-  int64_t inertial_refinements = 0;
+  int64_t inertial_refinements = 0;           // adopted
+  int64_t inertial_refinements_rejected = 0;  // implausible result: not adopted
   int64_t culled_keyframes = 0;
   int64_t removed_points = 0;
   // Keypoints of later keyframes still naming a removed point (sent before the tracker applied

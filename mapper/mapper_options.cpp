@@ -54,7 +54,9 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read("max_keyframes", max_kf);
     s.read("min_keyframes", min_kf);
     s.read_degrees("gravity_prior_deg", r.gravity_prior_sigma_rad);
-    if (r.every_keyframes < 0 || min_kf < 2 || max_kf < min_kf || !(r.gravity_prior_sigma_rad > 0))
+    s.read_degrees("max_tilt_deg", r.max_tilt_rad);
+    if (r.every_keyframes < 0 || min_kf < 2 || max_kf < min_kf ||
+        !(r.gravity_prior_sigma_rad > 0) || !(r.max_tilt_rad > 0))
       s.fail("every_keyframes", "inertial refinement options out of range");
     r.max_keyframes = static_cast<size_t>(max_kf);
     r.min_keyframes = static_cast<size_t>(min_kf);

@@ -44,6 +44,7 @@ class PoseOptimizer {
 
   const PoseOptOptions& options() const { return options_; }
   void set_gravity(const Eigen::Vector3d& g_w) { g_w_ = g_w; }
+  const Eigen::Vector3d& gravity() const { return g_w_; }
 
  private:
   PoseOptOptions options_;

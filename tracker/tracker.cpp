@@ -206,8 +206,8 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
                      : "") +
                 ": tracked on vision alone";
   }
-  NavState predicted =
-      use_imu ? predict(last_->nav, pim, g_w_) : constant_velocity(last_->nav, frame.t_ns);
+  NavState predicted = use_imu ? predict(last_->nav, pim, optimizer_.gravity())
+                               : constant_velocity(last_->nav, frame.t_ns);
   predicted.t_ns = frame.t_ns;
   const Eigen::Isometry3d T_w_c_pred = T_w_c0(predicted);
   timer.stage("imu_predict");

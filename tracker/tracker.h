@@ -70,7 +70,7 @@ class Tracker {
   const TrackerOptions& options() const { return options_; }
   TrackState state() const { return state_; }
   // Gravity in the tracker's world: -z until a mapper refines it.
-  const Eigen::Vector3d& gravity_w() const { return g_w_; }
+  const Eigen::Vector3d& gravity_w() const { return optimizer_.gravity(); }
 
  private:
   struct LastFrame {
@@ -142,7 +142,6 @@ class Tracker {
   int64_t lost_since_ns_ = -1;
   int64_t last_tracked_t_ns_ = 0;  // last frame tracked or relocalised
   std::optional<Bootstrap> bootstrap_;
-  Eigen::Vector3d g_w_ = default_gravity_w();
   cv::Mat init_previous_image_;  // while initialising: to tell a static start from a moving one
 };
 

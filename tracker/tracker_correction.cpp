@@ -33,7 +33,7 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
   if (!anchor) return ignore("it names no keyframe the tracker still has");
   const bool has_gravity = !c.g_w.isZero();
   if (has_gravity) {
-    const double tilt = std::acos(std::clamp(-c.g_w.normalized().z(), -1.0, 1.0));
+    const double tilt = gravity_tilt_rad(c.g_w);
     const double magnitude_error = std::abs(c.g_w.norm() / kGravityMagnitude - 1.0);
     if (!(tilt <= options_.corrections.max_gravity_tilt_rad) ||
         !(magnitude_error <= options_.corrections.max_gravity_magnitude_error))
@@ -65,8 +65,7 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
   }
   last_keyframe_T_w_c_ = delta * last_keyframe_T_w_c_;
   if (has_gravity) {
-    g_w_ = c.g_w;
-    optimizer_.set_gravity(g_w_);
+    optimizer_.set_gravity(c.g_w);
   }
   ++counters_.corrections_applied;
   out.applied = true;

@@ -6,6 +6,8 @@
 // Perturbation conventions of the Jacobians: rotations on the right, R <- R * Exp(d); positions,
 // velocities and biases additively in their own frame (world for p, v).
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 
 #include "common/core/types.h"
 #include "common/imu/preintegration.h"
@@ -15,6 +17,10 @@ namespace hs {
 constexpr double kGravityMagnitude = 9.81;  // m/s^2
 inline Eigen::Vector3d default_gravity_w() {
   return {0.0, 0.0, -kGravityMagnitude};
+}
+// Angle between a gravity vector and the world's -z (radians).
+inline double gravity_tilt_rad(const Eigen::Vector3d& g_w) {
+  return std::acos(std::clamp(-g_w.normalized().z(), -1.0, 1.0));
 }
 
 // The state at pim.t1_ns() from the state at pim.t0_ns() (whose biases are used, through the

@@ -203,13 +203,16 @@ TEST(KeyframeGraph, DuplicateKeyframesAreIgnoredAndCounted) {
   EXPECT_EQ(g.keyframe(1), nullptr);
 }
 
-TEST(KeyframeGraph, ANewMapIdStartsANewComponent) {
+TEST(KeyframeGraph, ANewMapStartsANewWorld) {
   KeyframeGraph g;
   g.insert(keyframe(0, -1, ids(0, 9), 0));
   g.insert(keyframe(1, 0, ids(0, 9), 0));
-  g.insert(keyframe(2, 1, ids(5, 14), 1));  // the tracker stated a jump: map id 1
+  g.insert(keyframe(2, -1, ids(5, 14), 1));  // the tracker started a new map: map id 1
   g.insert(keyframe(3, 2, ids(10, 19), 1));
   EXPECT_EQ(g.counters().map_changes, 1);
+  EXPECT_EQ(g.counters().new_worlds, 2);
+  EXPECT_NE(g.world(1), g.world(2));
+  EXPECT_EQ(g.world(2), g.world(3));
   EXPECT_EQ(g.imu_predecessor(2), std::nullopt);
   EXPECT_EQ(g.imu_predecessor(3), 2);
   EXPECT_EQ(g.shared_points(1, 2), 0);
@@ -220,6 +223,22 @@ TEST(KeyframeGraph, ANewMapIdStartsANewComponent) {
   EXPECT_TRUE(w.fixed_keyframes.empty());
   EXPECT_EQ(g.local_window(0).keyframes, (std::vector<int64_t>{0, 1}));
   EXPECT_TRUE(g.local_window(0).fixed_keyframes.empty());  // keyframe 2 sees points 5..9
+}
+
+TEST(KeyframeGraph, AMapIdContinuingAKeyframeStaysInItsWorld) {
+  KeyframeGraph g;
+  g.insert(keyframe(0, -1, ids(0, 9), 0));
+  g.insert(keyframe(1, 0, ids(0, 9), 0));
+  // The tracker stated a jump of its estimate (map id 1) but kept its map: keyframe 2 follows 1.
+  g.insert(keyframe(2, 1, ids(5, 14), 1));
+  g.insert(keyframe(3, 2, ids(5, 14), 2));
+  EXPECT_EQ(g.counters().map_changes, 2);
+  EXPECT_EQ(g.counters().new_worlds, 1);
+  EXPECT_EQ(g.world(3), g.world(0));
+  EXPECT_EQ(g.imu_predecessor(2), 1);
+  EXPECT_EQ(g.imu_predecessor(3), 2);
+  EXPECT_EQ(g.shared_points(1, 2), 5);
+  EXPECT_EQ(g.local_window(3).keyframes, (std::vector<int64_t>{0, 1, 2, 3}));
 }
 
 TEST(KeyframeGraph, RemovingAKeyframeJoinsItsNeighboursImuIntervals) {

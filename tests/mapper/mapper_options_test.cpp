@@ -22,6 +22,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);
   EXPECT_EQ(c.mapper.inertial.max_keyframes, d.inertial.max_keyframes);
   EXPECT_NEAR(c.mapper.inertial.gravity_prior_sigma_rad, d.inertial.gravity_prior_sigma_rad, 1e-15);
+  EXPECT_NEAR(c.mapper.inertial.max_tilt_rad, d.inertial.max_tilt_rad, 1e-15);
   EXPECT_EQ(c.mapper.ba.time_budget_ms, d.ba.time_budget_ms);
   EXPECT_EQ(c.mapper.culling.max_imu_span_ns, d.culling.max_imu_span_ns);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);

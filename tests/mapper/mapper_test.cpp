@@ -105,15 +105,26 @@ TEST(Mapper, DuplicateKeyframeIsIgnoredWithAMessage) {
   EXPECT_EQ(mapper.graph().counters().duplicates, 1);
 }
 
-TEST(Mapper, CorrectionsStayInTheKeyframesMapId) {
+TEST(Mapper, CorrectionsStayInTheKeyframesWorld) {
   Mapper mapper(euroc_stereo_calib(), MapperOptions{});
   mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9), 0));
-  const MapperStep other = mapper.add_keyframe(consistent_keyframe(1, 0, ids(5, 14), 1));
+  const MapperStep other = mapper.add_keyframe(consistent_keyframe(1, -1, ids(5, 14), 1));
   ASSERT_TRUE(other.correction);
   EXPECT_EQ(other.correction->map_id, 1);
-  // The points are shared, the map ids are not: keyframe 0 is neither optimised nor sent.
+  // A new map: the points are shared, the worlds are not. Keyframe 0 is neither optimised nor
+  // sent.
   ASSERT_EQ(other.correction->keyframes.size(), 1u);
   EXPECT_EQ(other.correction->keyframes[0].id, 1);
+}
+
+TEST(Mapper, AStatedJumpKeepsTheWorld) {
+  Mapper mapper(euroc_stereo_calib(), MapperOptions{});
+  mapper.add_keyframe(consistent_keyframe(0, -1, ids(0, 9), 0));
+  // Map id 1 continues keyframe 0: the tracker stated a jump but kept its map.
+  const MapperStep next = mapper.add_keyframe(consistent_keyframe(1, 0, ids(5, 14), 1));
+  ASSERT_TRUE(next.correction);
+  EXPECT_EQ(next.correction->map_id, 1);
+  EXPECT_EQ(next.window_keyframes, 2);
 }
 
 }  // namespace

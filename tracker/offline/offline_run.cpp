@@ -108,10 +108,10 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
             rec.message += (rec.message.empty() ? "" : "; ") + applied.message;
         }
       }
-      out.frames.push_back(std::move(rec));
-      if (run_options.verbose && !r.message.empty())
+      if (run_options.verbose && !rec.message.empty())
         std::fprintf(stderr, "frame %lld [%s]: %s\n", static_cast<long long>(r.seq),
-                     to_string(r.state), r.message.c_str());
+                     to_string(r.state), rec.message.c_str());
+      out.frames.push_back(std::move(rec));
       if (run_options.progress && out.frames.size() % 100 == 0)
         std::fprintf(stderr, "  %zu frames, %lld keyframes, state %s\n", out.frames.size(),
                      static_cast<long long>(tracker.counters().keyframes), to_string(r.state));
