@@ -29,13 +29,15 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
   max_id_ = std::max(max_id_, kf.id);
   if (last_map_id_ && *last_map_id_ != kf.map_id) ++counters_.map_changes;
   last_map_id_ = kf.map_id;
-  if (const auto [w, fresh] = world_of_map_.try_emplace(kf.map_id, kf.map_id); fresh) {
+  const auto [world_it, fresh] = world_of_map_.try_emplace(kf.map_id, kf.map_id);
+  if (fresh) {
     const auto prev = keyframes_.find(kf.prev_id);
     if (kf.prev_id >= 0 && prev != keyframes_.end())
-      w->second = world_of_map_.at(prev->second.kf.map_id);
+      world_it->second = world_of_map_.at(prev->second.kf.map_id);
     else
       ++counters_.new_worlds;
   }
+  const int32_t w = world_it->second;
   if (kf.prev_id >= 0) {
     if (!successor_.emplace(kf.prev_id, kf.id).second) {
       ++counters_.forks;
@@ -48,7 +50,6 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
   const int64_t id = kf.id;
   Node& n = keyframes_[id];
   n.kf = std::move(kf);
-  const int32_t w = world_of_map_.at(n.kf.map_id);
   for (size_t i = 0; i < n.kf.keypoints.size(); ++i) {
     const int64_t point_id = n.kf.keypoints[i].point_id;
     if (point_id < 0) continue;
