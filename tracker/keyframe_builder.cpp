@@ -36,7 +36,8 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
                                                  const ImagePyramid& pyramid, const NavState& nav,
                                                  const std::vector<TrackedObservation>& tracked,
                                                  const OrbFeatures* features, LocalMap& map,
-                                                 KeyframeBuildStats* stats) const {
+                                                 KeyframeBuildStats* stats,
+                                                 StageTimer* timer) const {
   KeyframeBuildStats local_stats;
   KeyframeBuildStats& st = stats ? *stats : local_stats;
   st = {};
@@ -116,6 +117,7 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     cv::vconcat(detected.descriptors, described.descriptors, kf->features.descriptors);
   kf->features.keypoints = std::move(keypoints);
   kf->point_ids = std::move(kept_ids);
+  if (timer) timer->stage("kf_orb");
   const size_t n = kf->features.size();
   kf->uv_right.assign(n, Eigen::Vector2f(-1.f, -1.f));
   kf->depth.assign(n, -1.f);
@@ -132,6 +134,7 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
   }
 
   if (frame.stereo()) add_stereo_points(frame, *kf, map, st);
+  if (timer) timer->stage("kf_stereo");
   return kf;
 }
 

@@ -9,6 +9,7 @@
 #include "common/dataset/stereo_frame.h"
 #include "tracker/local_map.h"
 #include "tracker/orb_extractor.h"
+#include "tracker/stage_timer.h"
 #include "tracker/stereo_matcher.h"
 #include "tracker/tracker_options.h"
 
@@ -30,12 +31,13 @@ class KeyframeBuilder {
   explicit KeyframeBuilder(const TrackerOptions& options);
 
   // `features`: ORB features already extracted from this frame (every-frame mode), or null.
-  // New map points are added to `map`; the keyframe is returned, not yet added to it.
+  // New map points are added to `map`; the keyframe is returned, not yet added to it. With a
+  // timer, the ORB and stereo steps are timed as stages of their own.
   std::shared_ptr<Keyframe> build(const StereoFrame& frame, const ImagePyramid& pyramid,
                                   const NavState& nav,
                                   const std::vector<TrackedObservation>& tracked,
                                   const OrbFeatures* features, LocalMap& map,
-                                  KeyframeBuildStats* stats) const;
+                                  KeyframeBuildStats* stats, StageTimer* timer = nullptr) const;
 
   const OrbExtractor& orb() const { return orb_; }
   // Also match the keyframe's tracked points in cam1: only a mapper uses those stereo views

@@ -29,13 +29,28 @@ class OrbExtractor {
   // Keypoints only, spread by the grid.
   std::vector<cv::KeyPoint> detect(const cv::Mat& image) const;
   // Descriptors of given keypoints (octave and angle as set). Keypoints too close to the border
-  // for a descriptor are dropped; the others keep their order.
+  // for a descriptor are dropped; the others come back unchanged but grouped by octave (the
+  // caller can tell them apart by class_id, which is kept).
   OrbFeatures describe(const cv::Mat& image, std::vector<cv::KeyPoint> keypoints) const;
+  // Both work on the scale pyramid in two halves of about equal area, the finest levels and the
+  // rest on a downscaled image, which run in parallel (cv::parallel_for_). The results do not
+  // depend on the thread count, and are those of one cv::ORB pyramid except that the coarse
+  // levels' sizes are rounded from the downscaled image (a pixel off from two levels past the
+  // split on: the same corners, descriptors a few bits apart).
   const OrbOptions& options() const { return options_; }
 
  private:
+  // Keypoints of levels [0, split_level_) on `image` and of [split_level_, num_levels) on the
+  // image downscaled to split_level_, in full-resolution pixels with octaves of the whole pyramid.
+  std::vector<cv::KeyPoint> detect_candidates(const cv::Mat& image) const;
+  // `image` at pyramid level split_level_, and that level's scale.
+  cv::Mat coarse_image(const cv::Mat& image, float* scale) const;
+
   OrbOptions options_;
-  cv::Ptr<cv::ORB> orb_;
+  cv::Ptr<cv::ORB> orb_;         // the whole pyramid (descriptors)
+  cv::Ptr<cv::ORB> orb_fine_;    // levels below split_level_ (null when there is no split)
+  cv::Ptr<cv::ORB> orb_coarse_;  // levels from split_level_ on, on the downscaled image
+  int split_level_ = 0;
 };
 
 // Scale of a keypoint's octave relative to level 0.

@@ -1,5 +1,6 @@
 #include "tracker/stereo_matcher.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/video/tracking.hpp>
 
 #include "common/geometry/triangulation.h"
@@ -30,11 +31,14 @@ std::vector<StereoMatch> StereoMatcher::match(const cv::Mat& image0, const cv::M
   }
   const cv::Size win(options_.window, options_.window);
   const cv::TermCriteria term(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
-  // Both pyramids once, shared by the forward and the backward pass.
+  // Both pyramids (with their derivatives) once, shared by the forward and the backward pass,
+  // built side by side.
   std::vector<cv::Mat> pyr0, pyr1;
   const int max_level = options_.pyramid_levels - 1;
-  cv::buildOpticalFlowPyramid(image0, pyr0, win, max_level);
-  cv::buildOpticalFlowPyramid(image1, pyr1, win, max_level);
+  cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i)
+      cv::buildOpticalFlowPyramid(i == 0 ? image0 : image1, i == 0 ? pyr0 : pyr1, win, max_level);
+  });
   std::vector<uint8_t> ok_fwd, ok_back;
   std::vector<float> err;
   cv::calcOpticalFlowPyrLK(pyr0, pyr1, left, right, ok_fwd, err, win, max_level, term,

@@ -1,7 +1,7 @@
 #include "tracker/tracker.h"
 
 #include <algorithm>
-#include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <stdexcept>
@@ -11,6 +11,7 @@
 #include "common/imu/static_init.h"
 #include "common/imu/vi_alignment.h"
 #include "tracker/direct_patch.h"
+#include "tracker/stage_timer.h"
 
 namespace hs {
 
@@ -45,26 +46,6 @@ const char* to_string(TrackMethod method) {
 }
 
 namespace {
-
-// Wall time of consecutive pipeline stages, in the order they ran.
-class StageTimer {
- public:
-  explicit StageTimer(FrameResult& result) : result_(result), start_(Clock::now()), last_(start_) {}
-  void stage(const char* name) {
-    const auto now = Clock::now();
-    result_.stage_ms.emplace_back(name, ms(last_, now));
-    last_ = now;
-  }
-  ~StageTimer() { result_.total_ms = ms(start_, Clock::now()); }
-
- private:
-  using Clock = std::chrono::steady_clock;
-  static float ms(Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<float, std::milli>(b - a).count();
-  }
-  FrameResult& result_;
-  Clock::time_point start_, last_;
-};
 
 Eigen::Matrix<double, 15, 1> initial_sigmas(bool static_start) {
   // Pose: the gauge (origin, yaw) and the gravity direction from the accelerometer, so tight.
@@ -114,7 +95,9 @@ Tracker::Tracker(const TrackerOptions& options)
       optimizer_(options_.calib, options_.pose_opt),
       aligner_(options_.direct.sparse),
       builder_(options_),
-      relocaliser_(options_, optimizer_) {}
+      relocaliser_(options_, optimizer_) {
+  if (options_.threads > 0) cv::setNumThreads(options_.threads);
+}
 
 Eigen::Isometry3d Tracker::T_w_c0(const NavState& nav) const {
   return nav.T_w_b() * options_.calib.cam0.T_b_c;
@@ -247,7 +230,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     lost_since_ns_ = -1;
     r.method = method;
     accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
-           have_features ? &features : nullptr, r);
+           have_features ? &features : nullptr, r, timer);
     timer.stage("keyframe");
     if (bootstrap_) advance_bootstrap(pim, r);
     return r;
@@ -294,7 +277,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     state_ = TrackState::kRelocalised;
     lost_since_ns_ = -1;
     r.map_id = map_id_;
-    accept(frame, std::move(pyr), nav, std::move(reloc.tracked), nullptr, &features, r);
+    accept(frame, std::move(pyr), nav, std::move(reloc.tracked), nullptr, &features, r, timer);
     timer.stage("keyframe");
     return r;
   }
@@ -474,21 +457,34 @@ Tracker::Correspondences Tracker::direct_correspondences(const ImagePyramid& pyr
       selected.push_back(&c);
     }
 
+  // The points are aligned independently (each result in its own slot, so the outcome does
+  // not depend on the thread count): split over the cores.
+  std::vector<const Keyframe*> ref_kf(selected.size(), nullptr);
+  for (size_t i = 0; i < selected.size(); ++i) {
+    const std::shared_ptr<Keyframe> kf = map_.keyframe(selected[i]->point->ref_keyframe_id);
+    if (kf && !kf->pyramid.levels.empty()) ref_kf[i] = kf.get();
+  }
+  std::vector<PatchAlignResult> results(selected.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(selected.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const Keyframe* kf = ref_kf[i];
+      if (!kf) continue;
+      const Candidate* c = selected[i];
+      const Eigen::Isometry3d T_cur_ref = T_c_w * kf->T_w_c0;
+      const Eigen::Vector3d p_ref = kf->T_w_c0.inverse() * c->point->p_w;
+      const Eigen::Matrix2d A = affine_warp_cur_ref(cam, p_ref, T_cur_ref);
+      results[i] = align_patch(kf->pyramid, c->point->ref_uv, A, pyr, c->uv, search_radius_px,
+                               options_.direct.patch);
+    }
+  });
   Correspondences out;
-  for (const Candidate* c : selected) {
-    const std::shared_ptr<Keyframe> kf = map_.keyframe(c->point->ref_keyframe_id);
-    if (!kf || kf->pyramid.levels.empty()) continue;
-    const Eigen::Isometry3d T_cur_ref = T_c_w * kf->T_w_c0;
-    const Eigen::Vector3d p_ref = kf->T_w_c0.inverse() * c->point->p_w;
-    const Eigen::Matrix2d A = affine_warp_cur_ref(cam, p_ref, T_cur_ref);
-    const PatchAlignResult res = align_patch(kf->pyramid, c->point->ref_uv, A, pyr, c->uv,
-                                             search_radius_px, options_.direct.patch);
-    if (!res.ok()) continue;
+  for (size_t i = 0; i < selected.size(); ++i) {
+    if (!ref_kf[i] || !results[i].ok()) continue;
     PoseObservation o;
-    o.p_w = c->point->p_w;
-    o.uv = res.uv_cur;
+    o.p_w = selected[i]->point->p_w;
+    o.uv = results[i].uv_cur;
     out.obs.push_back(o);
-    out.point_ids.push_back(c->point->id);
+    out.point_ids.push_back(selected[i]->point->id);
   }
   return out;
 }
@@ -554,7 +550,7 @@ PoseOptResult Tracker::optimise(const NavState& predicted, const Correspondences
 
 void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState& nav,
                      std::vector<TrackedObservation> tracked, const PoseOptResult* opt,
-                     const OrbFeatures* features, FrameResult& r) {
+                     const OrbFeatures* features, FrameResult& r, StageTimer& timer) {
   for (const TrackedObservation& t : tracked)
     if (MapPoint* p = map_.point(t.point_id)) ++p->times_tracked;
 
@@ -578,7 +574,7 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
                       frame.t_ns - last_keyframe_t_ns_);
   if (decision.is_keyframe || r.state == TrackState::kRelocalised) {
     KeyframeBuildStats stats;
-    auto kf = builder_.build(frame, pyr, nav, tracked, features, map_, &stats);
+    auto kf = builder_.build(frame, pyr, nav, tracked, features, map_, &stats, &timer);
     if (const auto prev = map_.latest_keyframe()) kf->prev_keyframe_id = prev->id;
     kf->imu = imu_.window(last_keyframe_t_ns_, frame.t_ns);
     // The new points are tracked from the next frame on.

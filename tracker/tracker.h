@@ -19,6 +19,7 @@
 #include "tracker/local_map.h"
 #include "tracker/pose_opt.h"
 #include "tracker/relocaliser.h"
+#include "tracker/stage_timer.h"
 #include "tracker/tracker_options.h"
 #include "tracker/tracker_types.h"
 
@@ -117,7 +118,7 @@ class Tracker {
                                        int64_t t_ns) const;
   void accept(const StereoFrame& frame, ImagePyramid pyr, const NavState& nav,
               std::vector<TrackedObservation> tracked, const PoseOptResult* opt,
-              const OrbFeatures* features, FrameResult& result);
+              const OrbFeatures* features, FrameResult& result, StageTimer& timer);
   void remember_keyframe_view(int64_t t_ns, const Eigen::Isometry3d& T_w_c,
                               const std::vector<TrackedObservation>& tracked);
   void start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr, const NavState& nav,

@@ -103,6 +103,8 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("prior_fading", o.prior_fading);
     if (!(o.prior_fading > 0.0 && o.prior_fading <= 1.0))
       s.fail("prior_fading", "must be in (0, 1]");
+    s.read("threads", o.threads);
+    if (o.threads < 0) s.fail("threads", "must be >= 0 (0: all cores)");
     s.read("local_map_keyframes", o.local_map.max_keyframes);
     s.read("relocalisation_keyframes", o.local_map.max_database_keyframes);
     if (o.max_points_per_frame < 10 || o.point_grid_px < 4 || o.local_map.max_keyframes < 2)

@@ -80,6 +80,10 @@ struct TrackerOptions {
   // frame and grow overconfident (measured on room_mav: ATE 3.1 cm at 1.0, 0.5-0.7 cm at
   // 0.5-0.7); s < 1 keeps a memory of about 1 / (1 - s) frames.
   double prior_fading = 0.6;
+  // Threads for the parallel steps (per-point patch alignment, the two halves of the ORB
+  // pyramid, the stereo pyramids): 0 leaves OpenCV's default (all cores). Process-wide, as
+  // OpenCV's thread pool is; results do not depend on it.
+  int threads = 0;
 
   ChannelNames channels;
   NodeOptions node;  // the hs-tracker process (queue, POSE_IMU rate, heartbeat)
