@@ -33,8 +33,7 @@ LoggerOptions load_logger_options(const std::string& path) {
       s.fail("max_file_mb", "files must be allowed at least 1 MB and a positive duration");
   });
   top.section("durability", [&](ConfigSection& s) {
-    s.read_seconds("flush_period_s", w.flush_period_ns);
-    if (w.flush_period_ns <= 0) s.fail("flush_period_s", "must be > 0");
+    s.read_period("flush_period_s", w.flush_period_ns);
     read_megabytes(s, "max_buffer_mb", w.max_buffer_bytes);
     s.read("fsync", w.fsync);
   });
@@ -47,8 +46,7 @@ LoggerOptions load_logger_options(const std::string& path) {
     w.on_disk_full = policy == "stop" ? DiskFullPolicy::kStop : DiskFullPolicy::kDeleteOldest;
   });
   top.section("node", [&](ConfigSection& s) {
-    s.read_seconds("heartbeat_period_s", o.heartbeat_period_ns);
-    if (o.heartbeat_period_ns <= 0) s.fail("heartbeat_period_s", "must be > 0");
+    s.read_period("heartbeat_period_s", o.heartbeat_period_ns);
   });
   o.channels = read_channel_names(top);
   top.finish();

@@ -74,8 +74,7 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read_seconds("max_imu_span_s", k.max_imu_span_ns);
   });
   top.section("node", [&](ConfigSection& s) {
-    s.read_seconds("heartbeat_period_s", c.heartbeat_period_ns);
-    if (c.heartbeat_period_ns <= 0) s.fail("heartbeat_period_s", "must be > 0");
+    s.read_period("heartbeat_period_s", c.heartbeat_period_ns);
   });
   c.channels = read_channel_names(top);
   top.finish();

@@ -64,8 +64,7 @@ void read_node(ConfigSection& s, NodeOptions& o) {
   if (o.frame_queue_size < 1) s.fail("frame_queue_size", "must be at least 1");
   s.read("pose_imu_decimation", o.pose_imu_decimation);
   if (o.pose_imu_decimation < 1) s.fail("pose_imu_decimation", "must be at least 1");
-  s.read_seconds("heartbeat_period_s", o.heartbeat_period_ns);
-  if (o.heartbeat_period_ns <= 0) s.fail("heartbeat_period_s", "must be > 0");
+  s.read_period("heartbeat_period_s", o.heartbeat_period_ns);
 }
 
 }  // namespace

@@ -81,6 +81,12 @@ bool ConfigSection::read_seconds(const std::string& key, int64_t& t_ns) {
   return true;
 }
 
+bool ConfigSection::read_period(const std::string& key, int64_t& t_ns) {
+  if (!read_seconds(key, t_ns)) return false;
+  if (t_ns <= 0) fail(key, "must be > 0");
+  return true;
+}
+
 bool ConfigSection::read_degrees(const std::string& key, double& rad) {
   double deg = rad * 180.0 / M_PI;
   if (!read(key, deg)) return false;

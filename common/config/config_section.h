@@ -34,6 +34,8 @@ class ConfigSection {
 
   // Optional duration key given in seconds, stored as int64 nanoseconds.
   bool read_seconds(const std::string& key, int64_t& t_ns);
+  // As read_seconds, for a period: fails (file:line) unless it is > 0.
+  bool read_period(const std::string& key, int64_t& t_ns);
   // A value in degrees into radians.
   bool read_degrees(const std::string& key, double& rad);
 

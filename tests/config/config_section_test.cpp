@@ -19,6 +19,7 @@ struct DemoOptions {
   std::vector<double> gains = {1.0};
   int64_t window_ns = 0;
   int64_t timeout_ns = 2'000'000'000;
+  int64_t period_ns = 1'000'000'000;
 };
 
 DemoOptions load_demo(const std::string& path) {
@@ -32,6 +33,7 @@ DemoOptions load_demo(const std::string& path) {
     s.read("gains", o.gains);
     s.read("window_ns", o.window_ns);
     s.read_seconds("timeout_s", o.timeout_ns);
+    s.read_period("period_s", o.period_ns);
   });
   top.finish();
   return o;
@@ -49,6 +51,13 @@ TEST(ConfigSection, ReadsTypedKeysAndKeepsDefaults) {
   EXPECT_EQ(o.window_ns, 5000000000LL);
   EXPECT_DOUBLE_EQ(o.threshold, DemoOptions().threshold);
   EXPECT_EQ(o.name, DemoOptions().name);
+}
+
+TEST(ConfigSection, APeriodMustBePositive) {
+  TempYaml f("demo:\n  period_s: 0.25\n");
+  EXPECT_EQ(load_demo(f.path()).period_ns, 250'000'000);
+  TempYaml zero("demo:\n  max_features: 1\n  period_s: 0\n");
+  expect_input_error([&] { load_demo(zero.path()); }, {zero.path() + ":3", "period_s", "> 0"});
 }
 
 TEST(ConfigSection, SecondsKeyBecomesNanoseconds) {

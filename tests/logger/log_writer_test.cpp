@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "logger/lcm_log_format.h"
+#include "tests/dataset/dataset_test_util.h"
 
 namespace hs {
 namespace {
@@ -23,17 +24,10 @@ constexpr int64_t kMs = 1'000'000;
 class LogWriterTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() /
-            ("hs_log_writer_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-               .string();
-    fs::remove_all(dir_);
     options_.directory = dir_;
     options_.min_free_bytes = 0;
     options_.fsync = false;  // the tests read back through the page cache
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // Writes `n` events of `bytes` each on CHAN, 10 ms apart starting at t0.
   static void write_events(LogWriter& w, int n, size_t bytes, int64_t t0_ns, int64_t* last_ns) {
     for (int i = 0; i < n; ++i) {
@@ -51,7 +45,8 @@ class LogWriterTest : public ::testing::Test {
     return out;
   }
 
-  std::string dir_;
+  test::TempDir tmp_;
+  std::string dir_ = tmp_.path() + "/logs";
   LogWriterOptions options_;
 };
 

@@ -14,6 +14,7 @@
 #include "logger/lcm_log_format.h"
 #include "tests/common/child_process.h"
 #include "tests/common/process_test_util.h"
+#include "tests/dataset/dataset_test_util.h"
 
 namespace hs {
 namespace {
@@ -33,16 +34,9 @@ int count_channel(const std::vector<LogEvent>& events, const std::string& channe
 class LoggerProcess : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() /
-            ("hs_logger_it_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-               .string();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     config_ = dir_ + "/logger.yaml";
     std::ofstream(config_) << "logger:\n  exclude: [\"IGNORED.*\"]\n";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // Starts hs-logger recording into dir_/logs and waits until it has subscribed.
   std::unique_ptr<Child> start_logger() {
@@ -80,7 +74,8 @@ class LoggerProcess : public ::testing::Test {
     return files;
   }
 
-  std::string dir_, config_;
+  test::TempDir tmp_;
+  std::string dir_ = tmp_.path(), config_;
   std::string url_ = test::private_udpm_url(17);
 };
 
