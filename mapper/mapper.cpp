@@ -7,7 +7,11 @@
 namespace hs {
 
 Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
-    : options_(options), graph_(options.graph), ba_(calib, options.ba) {}
+    : options_(options), graph_(options.graph), ba_(calib, options.ba) {
+  if (options_.far_point_disparity_px > 0)
+    options_.window.fixed_point_distance_m =
+        calib.cam0.intrinsics.fx * calib.baseline() / options_.far_point_disparity_px;
+}
 
 MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   MapperStep step;

@@ -33,6 +33,8 @@ MapperConfig load_mapper_config(const std::string& path) {
     if (!(o.point_outlier_ratio > 0 && o.point_outlier_ratio <= 1))
       s.fail("point_outlier_ratio", "must be in (0, 1]");
     s.read("cull_keyframes", o.cull_keyframes);
+    s.read("far_point_disparity_px", o.far_point_disparity_px);
+    if (!(o.far_point_disparity_px >= 0)) s.fail("far_point_disparity_px", "must be >= 0");
   });
   top.section("local_ba", [&](ConfigSection& s) {
     LocalBaOptions& b = o.ba;

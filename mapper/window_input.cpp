@@ -24,6 +24,12 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
   LocalBaInput& in = out.input;
   const std::set<int64_t> free(window.keyframes.begin(), window.keyframes.end());
   std::set<int64_t> fixed(window.fixed_keyframes.begin(), window.fixed_keyframes.end());
+  const auto far_from = [&](const std::set<int64_t>& keyframes, const Eigen::Vector3d& p_w) {
+    for (int64_t id : keyframes)
+      if ((graph.keyframe(id)->state.p_w_b - p_w).norm() < options.fixed_point_distance_m)
+        return false;
+    return true;
+  };
   // The IMU factor into the oldest optimised keyframes needs their predecessor, held fixed.
   for (int64_t id : free)
     if (const auto prev = graph.imu_predecessor(id); prev && !free.count(*prev))
@@ -38,7 +44,7 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
     const MapperPoint& p = *graph.point(id);
     if (p.observations.size() < 2) continue;
     points.insert(id);
-    in.points.push_back({id, p.p_w, false});
+    in.points.push_back({id, p.p_w, options.fixed_point_distance_m > 0 && far_from(free, p.p_w)});
   }
 
   for (const BaKeyframe& k : in.keyframes) {

@@ -21,6 +21,9 @@ struct WindowInputOptions {
   double pixel_sigma = 0.3;
   double octave_scale = 1.2;            // ORB pyramid scale: sigma = pixel_sigma * scale^octave
   int64_t max_imu_gap_ns = 50'000'000;  // an interval with a longer IMU gap gets no IMU factor
+  // Points farther than this from every optimised keyframe are held fixed (0: none). The
+  // Mapper sets it from the calibration (MapperOptions::far_point_disparity_px).
+  double fixed_point_distance_m = 0.0;
 };
 
 struct WindowInput {
@@ -30,7 +33,7 @@ struct WindowInput {
 
 // Stereo keypoints (a right pixel known) become two observations, one per camera: the images
 // are not rectified, so the right view is a full 2D measurement. Points seen by a single
-// keyframe are left out.
+// keyframe are left out; far points are held fixed (see fixed_point_distance_m).
 WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
                          const WindowInputOptions& options);
 

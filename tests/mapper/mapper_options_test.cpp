@@ -25,6 +25,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_NEAR(c.mapper.inertial.max_tilt_rad, d.inertial.max_tilt_rad, 1e-15);
   EXPECT_EQ(c.mapper.ba.time_budget_ms, d.ba.time_budget_ms);
   EXPECT_EQ(c.mapper.culling.max_imu_span_ns, d.culling.max_imu_span_ns);
+  EXPECT_EQ(c.mapper.far_point_disparity_px, d.far_point_disparity_px);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
@@ -40,6 +41,8 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
 
   const TempYaml unknown("mapper:\n  pixel_sigm: 0.5\n");
   expect_input_error([&] { load_mapper_config(unknown.path()); }, {"pixel_sigm", "pixel_sigma"});
+  const TempYaml far("mapper:\n  far_point_disparity_px: 0\n");
+  EXPECT_EQ(load_mapper_config(far.path()).mapper.far_point_disparity_px, 0.0);
   const TempYaml negative("mapper:\n  pixel_sigma: -1\n");
   expect_input_error([&] { load_mapper_config(negative.path()); }, {"pixel_sigma", ":2"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");

@@ -51,6 +51,20 @@ TEST(WindowInput, WindowKeyframesFreeAndTheImuPredecessorFixed) {
   EXPECT_EQ(w.input.observations.size(), 2u * 2u * 10u);
 }
 
+TEST(WindowInput, PointsFarFromEveryOptimisedKeyframeAreHeldFixed) {
+  // Point p is at (0.1 p, 0, 5) and keyframe k at (0.1 k, 0, 0): from keyframe 3, the nearest,
+  // points 20-25 are within 5.5 m and 26-29 beyond.
+  const KeyframeGraph g = chain_graph(test::keyframe_msg(3, 2, ids(20, 29)));
+  WindowInputOptions options;
+  options.fixed_point_distance_m = 5.5;
+  const WindowInput w = window_input(g, g.local_window(3), options);
+  ASSERT_EQ(w.input.points.size(), 10u);
+  for (const BaPoint& p : w.input.points) EXPECT_EQ(p.fixed, p.id >= 26) << "point " << p.id;
+  options.fixed_point_distance_m = 0.0;
+  for (const BaPoint& p : window_input(g, g.local_window(3), options).input.points)
+    EXPECT_FALSE(p.fixed);
+}
+
 TEST(WindowInput, StereoKeypointsGiveTheirMeasuredRightPixel) {
   const KeyframeGraph g = chain_graph(test::keyframe_msg(3, 2, ids(20, 29)));
   const WindowInputOptions options;
