@@ -4,28 +4,29 @@
 
 namespace hs {
 
-namespace {
-
-std::vector<std::regex> compile(const std::vector<std::string>& patterns, const char* what) {
-  std::vector<std::regex> out;
+ChannelFilter::Patterns ChannelFilter::compile(const std::vector<std::string>& patterns,
+                                               const char* what) {
+  Patterns out;
   for (const std::string& p : patterns) {
-    try {
-      out.emplace_back(p, std::regex::ECMAScript | std::regex::optimize);
-    } catch (const std::regex_error& e) {
+    auto c = std::make_unique<Compiled>();
+    const int err = regcomp(&c->re, ("^(" + p + ")$").c_str(), REG_EXTENDED | REG_NOSUB);
+    if (err != 0) {
+      char msg[256];
+      regerror(err, &c->re, msg, sizeof msg);
       throw InputError(std::string(what) + " channel pattern '" + p +
-                       "' is not a valid regex: " + e.what());
+                       "' is not a valid regex: " + msg);
     }
+    c->ok = true;
+    out.push_back(std::move(c));
   }
   return out;
 }
 
-bool any_full_match(const std::vector<std::regex>& patterns, const std::string& s) {
-  for (const std::regex& r : patterns)
-    if (std::regex_match(s, r)) return true;
+bool ChannelFilter::any_full_match(const Patterns& patterns, const std::string& s) {
+  for (const auto& c : patterns)
+    if (regexec(&c->re, s.c_str(), 0, nullptr, 0) == 0) return true;
   return false;
 }
-
-}  // namespace
 
 ChannelFilter::ChannelFilter(const std::vector<std::string>& include,
                              const std::vector<std::string>& exclude)
