@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <ctime>
 #include <filesystem>
 
 #include "common/core/atomic_file.h"
 #include "common/core/error.h"
+#include "common/core/wall_clock.h"
 #include "logger/lcm_log_format.h"
 
 namespace hs {
@@ -22,15 +22,6 @@ namespace {
 
 constexpr int64_t kResumeCheckPeriodNs = 1'000'000'000;
 constexpr const char* kSuffix = ".lcmlog";
-
-std::string utc_stamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
-  return buf;
-}
 
 std::string mib(int64_t bytes) {
   return std::to_string(bytes >> 20) + " MiB";
@@ -114,7 +105,8 @@ bool LogWriter::open_file(int64_t now_ns) {
     char counter[16];
     std::snprintf(counter, sizeof counter, "%04d", file_counter_++);
     path_ = (fs::path(options_.directory) /
-             (options_.prefix + "-" + utc_stamp() + "-" + counter + kSuffix))
+             (options_.prefix + "-" + wall_clock_text("%Y%m%d-%H%M%S", TimeZone::kUtc) + "-" +
+              counter + kSuffix))
                 .string();
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd_ >= 0) break;

@@ -94,6 +94,19 @@ bool ConfigSection::read_degrees(const std::string& key, double& rad) {
   return true;
 }
 
+std::vector<std::string> ConfigSection::keys() {
+  std::vector<std::string> out;
+  if (!node_.IsMap()) return out;
+  for (const auto& entry : node_) {
+    if (!entry.first.IsScalar())
+      throw InputError(file_, line_of(entry.first),
+                       "keys must be plain names, got " + describe(entry.first));
+    out.push_back(entry.first.Scalar());
+    known_.insert(out.back());
+  }
+  return out;
+}
+
 void ConfigSection::finish() const {
   if (!node_.IsMap()) return;
   std::map<std::string, long> first_line;

@@ -57,6 +57,10 @@ class ConfigSection {
     child.finish();
   }
 
+  // The mapping's keys in file order, each declared known: for sections whose keys are names
+  // chosen by the user (e.g. one entry per process). Pair with section(key, ...).
+  std::vector<std::string> keys();
+
   // Throws InputError naming the first unknown or duplicated key.
   void finish() const;
 
