@@ -43,10 +43,9 @@ class LaunchProcess : public ::testing::Test {
  protected:
   std::unique_ptr<Child> launch(const std::string& yaml) {
     std::ofstream(dir_ + "/system.yaml") << yaml;
-    auto child =
-        std::make_unique<Child>(std::vector<std::string>{HS_BINARY_DIR "/bin/hs-launch",
-                                                         dir_ + "/system.yaml", "--status", "log"},
-                                dir_ + "/launch.txt");
+    auto child = std::make_unique<Child>(
+        std::vector<std::string>{HS_LAUNCH, dir_ + "/system.yaml", "--status", "log"},
+        dir_ + "/launch.txt");
     EXPECT_TRUE(child->started());
     return child;
   }

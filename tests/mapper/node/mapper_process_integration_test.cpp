@@ -17,6 +17,7 @@
 #include "common/lcm/lcm_connection.h"
 #include "hsslam/odometry_t.hpp"
 #include "hsslam/tracker_status_t.hpp"
+#include "tests/common/ate_test_util.h"
 #include "tests/common/child_process.h"
 #include "tests/common/process_test_util.h"
 #include "tests/dataset/dataset_test_util.h"
@@ -55,9 +56,7 @@ struct Heard {
 };
 
 double ate_rmse(const std::string& gt, const std::string& estimate, const std::string& json) {
-  ChildProcess eval({HS_EVAL, gt, estimate, "--align", "--json", json}, json + ".txt");
-  EXPECT_EQ(eval.wait(), 0) << eval.output();
-  return nlohmann::json::parse(std::ifstream(json))["ape"]["rmse"].get<double>();
+  return test::ate_rmse(HS_EVAL, gt, estimate, json);
 }
 
 class MapperProcess : public ::testing::Test {
