@@ -572,6 +572,9 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
       decide_keyframe(options_.keyframe, pose_change_norm(last_keyframe_T_w_c_, T_w_c),
                       mean_parallax(uv_kf, uv_cur), static_cast<int>(tracked.size()),
                       frame.t_ns - last_keyframe_t_ns_);
+  const FeatureSource found_by =
+      r.method == TrackMethod::kDirect ? FeatureSource::kDirect : FeatureSource::kDescriptor;
+  for (const TrackedObservation& t : tracked) r.features.push_back({t.uv.cast<float>(), found_by});
   if (decision.is_keyframe || r.state == TrackState::kRelocalised) {
     KeyframeBuildStats stats;
     auto kf = builder_.build(frame, pyr, nav, tracked, features, map_, &stats, &timer);
@@ -584,6 +587,8 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
                        [&](const TrackedObservation& t) { return t.point_id == kf->point_ids[i]; }))
         tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
                                                              kf->features.keypoints[i].pt.y)});
+    for (size_t i = r.features.size(); i < tracked.size(); ++i)
+      r.features.push_back({tracked[i].uv.cast<float>(), FeatureSource::kNew});
     map_.add_keyframe(kf);
     ++counters_.keyframes;
     remember_keyframe_view(frame.t_ns, T_w_c, tracked);
@@ -701,6 +706,8 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   r.is_keyframe = true;
   r.keyframe = kf;
   r.tracked_points = static_cast<int>(tracked.size());
+  for (const TrackedObservation& t : tracked)
+    r.features.push_back({t.uv.cast<float>(), FeatureSource::kNew});
   r.quality = 0.5f;
   r.message += (r.message.empty() ? "" : "; ") +
                std::string(first ? "map initialised" : "new local map started in place") +

@@ -27,6 +27,14 @@ enum class TrackMethod {
 const char* to_string(TrackState state);
 const char* to_string(TrackMethod method);
 
+// A point the frame's pose rests on, and how it was found (values match tracker_status_t's
+// FEATURE_* constants).
+enum class FeatureSource : int8_t { kDirect = 1, kDescriptor = 2, kNew = 3 };
+struct FrameFeature {
+  Eigen::Vector2f uv;  // raw cam0 pixel
+  FeatureSource source;
+};
+
 struct FrameResult {
   int64_t t_ns = 0;
   int64_t seq = 0;
@@ -41,6 +49,7 @@ struct FrameResult {
   // The new keyframe, when is_keyframe and the state is known (not while initialising).
   std::shared_ptr<const Keyframe> keyframe;
   int tracked_points = 0;
+  std::vector<FrameFeature> features;  // tracked_points of them, when tracked
   std::vector<std::pair<std::string, float>> stage_ms;
   float total_ms = 0.0f;
   std::string message;

@@ -12,14 +12,14 @@ using test::TempYaml;
 
 TEST(LaunchOptions, ShippedSystemConfigLoads) {
   const LaunchOptions o = load_launch_options(HS_SOURCE_DIR "/config/system.yaml");
-  ASSERT_EQ(o.processes.size(), 4u);
+  ASSERT_EQ(o.processes.size(), 5u);
   EXPECT_EQ(o.processes[0].name, "logger");  // file order is start order
   EXPECT_EQ(o.processes[2].name, "tracker");
   EXPECT_EQ(o.processes[2].heartbeat, "hs-tracker");
   EXPECT_EQ(o.processes[2].restart, RestartPolicy::kOnFailure);
-  EXPECT_FALSE(o.processes[3].enabled);
-  EXPECT_TRUE(o.processes[3].required);
-  EXPECT_EQ(o.processes[3].restart, RestartPolicy::kNever);
+  EXPECT_FALSE(o.processes[4].enabled);  // the replay
+  EXPECT_TRUE(o.processes[4].required);
+  EXPECT_EQ(o.processes[4].restart, RestartPolicy::kNever);
   EXPECT_EQ(o.backoff.max_failures, 10);
 }
 
@@ -75,7 +75,7 @@ TEST(LaunchOptions, OnlySelectsNamedProcessesEvenDisabledOnes) {
   EXPECT_TRUE(o.processes[1].enabled);
   LaunchOptions again = load_launch_options(HS_SOURCE_DIR "/config/system.yaml");
   expect_input_error([&] { select_processes(again, {"trakcer"}); },
-                     {"no process named 'trakcer'", "known: logger, mapper, tracker, replay"});
+                     {"no process named 'trakcer'", "known: logger, mapper, tracker, viewer, replay"});
 }
 
 }  // namespace

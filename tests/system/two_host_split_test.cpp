@@ -26,6 +26,7 @@
 #include "tests/common/ate_test_util.h"
 #include "tests/common/child_process.h"
 #include "tests/common/process_test_util.h"
+#include "tests/common/sim_log_util.h"
 #include "tests/common/two_hosts.h"
 #include "tests/dataset/dataset_test_util.h"
 
@@ -96,13 +97,7 @@ class TwoHostSplit : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new test::TempDir();
     const std::string d = dir_->path();
-    ChildProcess gen({HS_SIM, "--scenario", HS_SOURCE_DIR "/config/sim/room_mav.yaml", "--out",
-                      d + "/sim", "--duration", std::to_string(kDurationS), "--quiet"},
-                     d + "/sim.txt");
-    ASSERT_EQ(gen.wait(), 0) << gen.output();
-    ChildProcess conv({HS_EUROC2LCM, "--dataset", d + "/sim", "--out", d + "/sim.lcmlog"},
-                      d + "/euroc2lcm.txt");
-    ASSERT_EQ(conv.wait(), 0) << conv.output();
+    ASSERT_TRUE(test::make_sim_log(HS_SIM, HS_EUROC2LCM, d, kDurationS));
     // A roomy frame queue: CI machines may stall the tracker while other jobs run.
     std::ofstream(d + "/node.yaml") << "node:\n  frame_queue_size: 100\n";
     // A's own recording, for what A sent (the replayed images are in sim.lcmlog already).

@@ -69,6 +69,12 @@ hsslam::tracker_status_t status_msg(const FrameResult& r, const std::vector<Name
   }
   msg.num_counters = static_cast<int32_t>(msg.counter_names.size());
   msg.message = message;
+  for (const FrameFeature& f : r.features) {
+    msg.feature_u.push_back(f.uv.x());
+    msg.feature_v.push_back(f.uv.y());
+    msg.feature_source.push_back(static_cast<int8_t>(f.source));
+  }
+  msg.num_features = static_cast<int32_t>(r.features.size());
   return msg;
 }
 

@@ -20,6 +20,7 @@
 #include "tests/common/ate_test_util.h"
 #include "tests/common/child_process.h"
 #include "tests/common/process_test_util.h"
+#include "tests/common/sim_log_util.h"
 #include "tests/dataset/dataset_test_util.h"
 
 namespace hs {
@@ -64,13 +65,7 @@ class MapperProcess : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new test::TempDir();
     const std::string d = dir_->path();
-    ChildProcess gen({HS_SIM, "--scenario", HS_SOURCE_DIR "/config/sim/room_mav.yaml", "--out",
-                      d + "/sim", "--duration", "12", "--quiet"},
-                     d + "/sim.txt");
-    ASSERT_EQ(gen.wait(), 0) << gen.output();
-    ChildProcess conv({HS_EUROC2LCM, "--dataset", d + "/sim", "--out", d + "/sim.lcmlog"},
-                      d + "/euroc2lcm.txt");
-    ASSERT_EQ(conv.wait(), 0) << conv.output();
+    ASSERT_TRUE(test::make_sim_log(HS_SIM, HS_EUROC2LCM, d, 12));
     ChildProcess run({HS_RUN, "--dataset", d + "/sim", "--with-mapper", "--out", d + "/run"},
                      d + "/run.txt");
     ASSERT_EQ(run.wait(), 0) << run.output();

@@ -130,6 +130,15 @@ TEST_F(TrackerNodeTest, PublishesWhatTheLibraryComputesAndPoseImuAtTheImuRate) {
     EXPECT_EQ(out_.statuses[i].seq, seq_->reference[i].seq);
     EXPECT_EQ(out_.statuses[i].state, static_cast<int8_t>(seq_->reference[i].state));
     EXPECT_EQ(out_.statuses[i].num_stages, static_cast<int32_t>(out_.statuses[i].stage_ms.size()));
+    // The features, as the library found them.
+    const hsslam::tracker_status_t& st = out_.statuses[i];
+    const FrameResult& ref = seq_->reference[i];
+    ASSERT_EQ(st.num_features, static_cast<int32_t>(ref.features.size()));
+    for (size_t k = 0; k < ref.features.size(); ++k) {
+      EXPECT_EQ(st.feature_u[k], ref.features[k].uv.x());
+      EXPECT_EQ(st.feature_v[k], ref.features[k].uv.y());
+      EXPECT_EQ(st.feature_source[k], static_cast<int8_t>(ref.features[k].source));
+    }
   }
   const hsslam::tracker_status_t& last = out_.statuses.back();
   EXPECT_EQ(counter(last, "frames"), static_cast<int64_t>(seq_->reference.size()));
