@@ -12,7 +12,7 @@ PACKAGES=(
   libeigen3-dev libopencv-dev libceres-dev libv4l-dev libgpiod-dev
   googletest libgtest-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   default-jdk-headless libjchart2d-java
-  iproute2 procps python3 xvfb xdotool imagemagick
+  iproute2 procps python3 xvfb x11-utils xdotool imagemagick
 )
 
 SUDO=""

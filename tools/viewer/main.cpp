@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
     if (!video.empty() &&
         !writer.open(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps, layout.canvas))
       throw std::runtime_error("cannot write the video " + video + " (MJPG .avi)");
-    if (!headless) cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE);
+    if (!headless) cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
     std::printf("hs-viewer: listening on %s\n", url.c_str());
     std::fflush(stdout);
 
@@ -120,8 +120,10 @@ int main(int argc, char** argv) {
     int written = 0;
     cv::Mat view = hs::render_view(model, layout);
     while (!hs::stop_requested()) {
-      if (lcm->handleTimeout(10) < 0 && !hs::stop_requested())
-        throw std::runtime_error("LCM receive failed");
+      // Everything waiting, then one view: a burst never waits behind drawing.
+      for (int status = lcm->handleTimeout(10); status > 0; status = lcm->handleTimeout(0)) {
+      }
+      if (!lcm->good() && !hs::stop_requested()) throw std::runtime_error("LCM receive failed");
       const int64_t now = hs::monotonic_ns();
       if (idle_exit_s > 0 && feeder.last_message_ns > 0 &&
           now - feeder.last_message_ns > static_cast<int64_t>(idle_exit_s * 1e9))
