@@ -38,21 +38,24 @@ bool read_event(const std::vector<uint8_t>& bytes, size_t pos, LogEvent* e, size
 
 }  // namespace
 
-void append_log_event(const LogEvent& event, std::vector<uint8_t>* out) {
+void append_log_event(int64_t event_number, int64_t utime, const std::string& channel,
+                      const uint8_t* data, size_t size, std::vector<uint8_t>* out) {
   put_be(kLcmLogSyncWord, 4, out);
-  put_be(static_cast<uint64_t>(event.event_number), 8, out);
-  put_be(static_cast<uint64_t>(event.utime), 8, out);
-  put_be(event.channel.size(), 4, out);
-  put_be(event.data.size(), 4, out);
-  out->insert(out->end(), event.channel.begin(), event.channel.end());
-  out->insert(out->end(), event.data.begin(), event.data.end());
+  put_be(static_cast<uint64_t>(event_number), 8, out);
+  put_be(static_cast<uint64_t>(utime), 8, out);
+  put_be(channel.size(), 4, out);
+  put_be(size, 4, out);
+  out->insert(out->end(), channel.begin(), channel.end());
+  out->insert(out->end(), data, data + size);
 }
 
 LogScan scan_log_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path + ": cannot open log file");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes(static_cast<size_t>(in.tellg()));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+    throw InputError(path + ": cannot read log file");
   LogScan scan;
   size_t pos = 0;
   while (pos < bytes.size()) {

@@ -25,7 +25,11 @@ struct LogEvent {
 };
 
 // Appends the encoded event to `out`.
-void append_log_event(const LogEvent& event, std::vector<uint8_t>* out);
+void append_log_event(int64_t event_number, int64_t utime, const std::string& channel,
+                      const uint8_t* data, size_t size, std::vector<uint8_t>* out);
+inline void append_log_event(const LogEvent& e, std::vector<uint8_t>* out) {
+  append_log_event(e.event_number, e.utime, e.channel, e.data.data(), e.data.size(), out);
+}
 
 struct LogScan {
   std::vector<LogEvent> events;

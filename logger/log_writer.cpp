@@ -201,12 +201,7 @@ void LogWriter::write(const std::string& channel, int64_t utime, const uint8_t* 
     ++status_.events_dropped;
     return;
   }
-  LogEvent e;
-  e.event_number = next_event_number_++;
-  e.utime = utime;
-  e.channel = channel;
-  e.data.assign(data, data + size);
-  append_log_event(e, &buffer_);
+  append_log_event(next_event_number_++, utime, channel, data, size, &buffer_);
   pending_.push_back({channel, utime, static_cast<int64_t>(size), message_seq(data, size)});
   status_.buffered_bytes = static_cast<int64_t>(buffer_.size());
   if (static_cast<int64_t>(buffer_.size()) >= options_.max_buffer_bytes) flush();
