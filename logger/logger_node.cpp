@@ -7,6 +7,11 @@
 #include "logger/png_recode.h"
 
 namespace hs {
+namespace {
+
+constexpr int kReceiveQueueMessages = 2000;
+
+}  // namespace
 
 LoggerNode::LoggerNode(lcm::LCM& lcm, const LoggerOptions& options)
     : lcm_(lcm),
@@ -20,6 +25,9 @@ LoggerNode::~LoggerNode() {
 
 void LoggerNode::start() {
   subscription_ = lcm_.subscribeFunction(".*", &LoggerNode::on_message, this);
+  // LCM queues 30 messages per subscription and silently drops beyond: at ~650 messages/s
+  // (IMU, POSE_IMU, ground truth...) a 50 ms disk flush would lose some. 2000 is 3 s of that.
+  subscription_->setQueueCapacity(kReceiveQueueMessages);
   publish_heartbeat(hsslam::heartbeat_t::STARTING);
   next_heartbeat_ns_ = monotonic_ns() + options_.heartbeat_period_ns;
 }

@@ -1,5 +1,7 @@
 #include "logger/logger_options.h"
 
+#include "common/config/process_section.h"
+
 namespace hs {
 
 namespace {
@@ -45,11 +47,7 @@ LoggerOptions load_logger_options(const std::string& path) {
       s.fail("on_full", "must be 'stop' or 'delete_oldest'");
     w.on_disk_full = policy == "stop" ? DiskFullPolicy::kStop : DiskFullPolicy::kDeleteOldest;
   });
-  top.section("node", [&](ConfigSection& s) {
-    s.read_period("heartbeat_period_s", o.heartbeat_period_ns);
-  });
-  o.channels = read_channel_names(top);
-  top.finish();
+  read_process_tail(top, o.heartbeat_period_ns, o.channels);
   return o;
 }
 

@@ -2,6 +2,7 @@
 
 #include "common/config/calibration_section.h"
 #include "common/config/config_section.h"
+#include "common/config/process_section.h"
 
 namespace hs {
 
@@ -75,11 +76,7 @@ MapperConfig load_mapper_config(const std::string& path) {
     k.keep_recent = static_cast<size_t>(keep);
     s.read_seconds("max_imu_span_s", k.max_imu_span_ns);
   });
-  top.section("node", [&](ConfigSection& s) {
-    s.read_period("heartbeat_period_s", c.heartbeat_period_ns);
-  });
-  c.channels = read_channel_names(top);
-  top.finish();
+  read_process_tail(top, c.heartbeat_period_ns, c.channels);
   return c;
 }
 

@@ -1,0 +1,47 @@
+#pragma once
+// hs-imu's work: reads the IMU's serial stream, turns it into samples on CLOCK_MONOTONIC
+// (XsensStream) and publishes them on IMU in batches of batch_size (fewer when the device pauses
+// for a read timeout, so no sample waits for a batch to fill), with HEARTBEAT (state,
+// counters, the last problem). A device that cannot be opened or is lost (unplugged) is said so
+// and retried every reconnect period; it recovers without a restart and nothing is published
+// from a device that is not there.
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+#include <vector>
+
+#include "drivers/imu/imu_driver_options.h"
+#include "drivers/imu/xsens_stream.h"
+
+namespace hs {
+
+struct ImuDriverStats {
+  int64_t samples_published = 0;
+  int64_t messages_published = 0;
+  int64_t connects = 0;     // successful opens
+  int64_t device_lost = 0;  // read failures of an open device
+  int64_t open_failures = 0;
+};
+
+class ImuDriverNode {
+ public:
+  ImuDriverNode(lcm::LCM& lcm, ImuDriverOptions options);
+  // Until stop_requested() (install_stop_signals() first).
+  void run();
+  const ImuDriverStats& stats() const { return stats_; }
+  const XsensStream& stream() const { return stream_; }
+
+ private:
+  void publish(bool all);
+  void publish_heartbeat();
+
+  lcm::LCM& lcm_;
+  ImuDriverOptions options_;
+  XsensStream stream_;
+  std::vector<ImuSample> pending_;
+  int64_t seq_ = 0;
+  bool connected_ = false;
+  std::string problem_;  // why it is not reading, or the last bad input
+  ImuDriverStats stats_;
+};
+
+}  // namespace hs
