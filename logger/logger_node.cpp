@@ -99,11 +99,7 @@ void LoggerNode::publish_heartbeat(int8_t state) {
       {"png_recoded", counters_.png_recoded},
       {"png_failed", counters_.png_failed},
       {"free_mb", s.free_bytes < 0 ? -1 : s.free_bytes >> 20}};
-  for (const auto& [name, value] : counters) {
-    hb.counter_names.emplace_back(name);
-    hb.counter_values.push_back(value);
-  }
-  hb.num_counters = static_cast<int32_t>(hb.counter_names.size());
+  add_counters(hb, counters);
   lcm_.publish(options_.channels.heartbeat, &hb);
 }
 

@@ -34,4 +34,14 @@ inline hsslam::heartbeat_t heartbeat_header(const std::string& process, int8_t s
   return hb;
 }
 
+// Appends named cumulative counters (pairs of name and value) to a heartbeat.
+template <class Counters>
+void add_counters(hsslam::heartbeat_t& hb, const Counters& counters) {
+  for (const auto& [name, value] : counters) {
+    hb.counter_names.emplace_back(name);
+    hb.counter_values.push_back(value);
+  }
+  hb.num_counters = static_cast<int32_t>(hb.counter_names.size());
+}
+
 }  // namespace hs

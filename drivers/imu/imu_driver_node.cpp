@@ -69,11 +69,7 @@ void ImuDriverNode::publish_heartbeat() {
       {"device_lost", stats_.device_lost},
       {"open_failures", stats_.open_failures},
       {"clock_offset_us", stream_.clock().offset_ns() / 1000}};
-  for (const auto& [name, value] : counters) {
-    hb.counter_names.push_back(name);
-    hb.counter_values.push_back(value);
-  }
-  hb.num_counters = static_cast<int32_t>(counters.size());
+  add_counters(hb, counters);
   lcm_.publish(options_.channels.heartbeat, &hb);
 }
 

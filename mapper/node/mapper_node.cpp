@@ -139,11 +139,7 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"out_of_order_keyframes", g.out_of_order},
       {"missing_previous_keyframes", g.missing_prev},
       {"map_changes", g.map_changes}};
-  for (const auto& [name, value] : counters) {
-    hb.counter_names.push_back(name);
-    hb.counter_values.push_back(value);
-  }
-  hb.num_counters = static_cast<int32_t>(counters.size());
+  add_counters(hb, counters);
   lcm_.publish(node_options_.channels.heartbeat, &hb);
 }
 

@@ -303,11 +303,7 @@ void TrackerNode::publish_heartbeat(int8_t state) {
     last_error = last_error_;
   }
   if (!last_error.empty()) hb.message += "; last bad input: " + last_error;
-  for (const auto& [name, value] : counters()) {
-    hb.counter_names.push_back(name);
-    hb.counter_values.push_back(value);
-  }
-  hb.num_counters = static_cast<int32_t>(hb.counter_names.size());
+  add_counters(hb, counters());
   lcm_.publish(options_.channels.heartbeat, &hb);
 }
 

@@ -1,0 +1,116 @@
+#include "drivers/trigger/trigger_node.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cctype>
+#include <gpiod.hpp>
+#include <optional>
+#include <stdexcept>
+
+#include "common/core/monotonic_clock.h"
+#include "common/core/stop_signal.h"
+#include "common/lcm/process_loop.h"
+#include "drivers/trigger/pulse_schedule.h"
+#include "hsslam/trigger_t.hpp"
+
+namespace hs {
+namespace {
+
+gpiod::line find_line(gpiod::chip& chip, const std::string& spec) {
+  const bool number = !spec.empty() && std::all_of(spec.begin(), spec.end(),
+                                                   [](unsigned char c) { return std::isdigit(c); });
+  gpiod::line line = number ? chip.get_line(std::stoi(spec)) : chip.find_line(spec);
+  if (!line) throw std::runtime_error("GPIO chip " + chip.name() + " has no line '" + spec + "'");
+  return line;
+}
+
+void sleep_until(int64_t t_ns) {
+  timespec ts{static_cast<time_t>(t_ns / 1'000'000'000), static_cast<long>(t_ns % 1'000'000'000)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR &&
+         !stop_requested()) {
+  }
+}
+
+}  // namespace
+
+TriggerNode::TriggerNode(lcm::LCM& lcm, TriggerOptions options)
+    : lcm_(lcm), options_(std::move(options)) {}
+
+void TriggerNode::publish_heartbeat(int8_t state) {
+  hsslam::heartbeat_t hb = heartbeat_header("hs-trigger", state);
+  hb.message = "pulsing " + options_.chip + " line " + options_.output_line;
+  if (stats_.missing_edges > 0) hb.message += "; edges missing";
+  const std::vector<std::pair<std::string, int64_t>> counters = {
+      {"pulses", stats_.pulses},
+      {"edges", stats_.edges},
+      {"missing_edges", stats_.missing_edges},
+      {"skipped", stats_.skipped},
+      {"max_edge_delay_us", static_cast<int64_t>(stats_.max_edge_delay_ms * 1000)}};
+  add_counters(hb, counters);
+  lcm_.publish(options_.channels.heartbeat, &hb);
+}
+
+void TriggerNode::run() {
+  gpiod::chip chip;
+  try {
+    chip.open(options_.chip);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot open GPIO chip '" + options_.chip + "': " + e.what());
+  }
+  gpiod::line out = find_line(chip, options_.output_line);
+  try {
+    out.request({"hs-trigger", gpiod::line_request::DIRECTION_OUTPUT, 0}, 0);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot drive line '" + options_.output_line +
+                             "' (busy?): " + e.what());
+  }
+  std::optional<gpiod::line> edge;
+  if (!options_.edge_line.empty()) {
+    edge = find_line(chip, options_.edge_line);
+    try {
+      edge->request({"hs-trigger", gpiod::line_request::EVENT_RISING_EDGE, 0});
+    } catch (const std::exception& e) {
+      throw std::runtime_error("cannot watch line '" + options_.edge_line + "': " + e.what());
+    }
+  }
+  PulseSchedule schedule(monotonic_ns() + 100'000'000, options_.rate_hz);
+  int64_t next_heartbeat = 0;
+  while (!stop_requested()) {
+    const int64_t deadline = schedule.next(monotonic_ns());
+    stats_.skipped = schedule.skipped();
+    sleep_until(deadline);
+    if (stop_requested()) break;
+    const int64_t set_ns = monotonic_ns();
+    out.set_value(1);
+    int64_t t_ns = set_ns;
+    if (edge) {
+      // Edges left over from a pulse whose edge came too late are not this pulse's.
+      while (edge->event_wait(std::chrono::nanoseconds(0))) edge->event_read();
+      if (edge->event_wait(std::chrono::nanoseconds(options_.edge_timeout_ns))) {
+        const gpiod::line_event ev = edge->event_read();
+        t_ns = ev.timestamp.count();
+        ++stats_.edges;
+        stats_.max_edge_delay_ms = std::max(stats_.max_edge_delay_ms, (t_ns - set_ns) / 1e6);
+      } else {
+        ++stats_.missing_edges;
+      }
+    }
+    sleep_until(set_ns + options_.pulse_width_ns);
+    out.set_value(0);
+    hsslam::trigger_t msg;
+    msg.t_ns = t_ns;
+    msg.seq = stats_.pulses++;
+    lcm_.publish(options_.channels.trigger, &msg);
+    const int64_t now = monotonic_ns();
+    if (now >= next_heartbeat) {
+      publish_heartbeat(stats_.missing_edges > 0 || stats_.skipped > 0
+                            ? hsslam::heartbeat_t::DEGRADED
+                            : hsslam::heartbeat_t::OK);
+      next_heartbeat = now + options_.heartbeat_period_ns;
+    }
+  }
+  publish_heartbeat(hsslam::heartbeat_t::STOPPING);
+}
+
+}  // namespace hs

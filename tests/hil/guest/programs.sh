@@ -1,0 +1,60 @@
+#!/bin/sh
+# The project's programs against the guest's kernel interfaces. LCM traffic stays in the guest
+# (udpm on its loopback) and is recorded and checked there with hs-logger.
+URL='udpm://239.255.76.67:7667?ttl=0'
+status=0
+check() {
+  if "$@"; then echo "HIL check $*: PASS"; else echo "HIL check $*: FAIL"; status=1; fi
+}
+
+# hs-trigger on gpio-sim. gpio-sim cannot wire an output to an input, so a mirror loop copies the
+# trigger line (cam-trigger) to the strobe input (cam-strobe-in) by its pull, like a loopback
+# wire with a shell's latency; hs-trigger times each pulse by that edge.
+chip=$(gpiodetect | awk '/\[hil-sim\]/ {print $1}')
+sim=/sys/bus/gpio/devices/$chip
+(
+  last=0
+  while true; do
+    v=$(cat $sim/sim_gpio0/value)
+    if [ "$v" != "$last" ]; then
+      if [ "$v" = 1 ]; then echo pull-up > $sim/sim_gpio1/pull; else echo pull-down > $sim/sim_gpio1/pull; fi
+      last=$v
+    fi
+    usleep 200
+  done
+) &
+mirror=$!
+cat > /tmp/trigger.yaml <<EOT
+trigger:
+  chip: $chip
+  output_line: cam-trigger
+  edge_line: cam-strobe-in
+  rate_hz: 20
+  edge_timeout_s: 0.02
+EOT
+hs-logger --dir /tmp/log --lcm-url "$URL" > /tmp/logger.txt 2>&1 &
+logger=$!
+sleep 1
+hs-trigger --config /tmp/trigger.yaml --lcm-url "$URL" > /tmp/trigger.txt 2>&1 &
+trigger=$!
+sleep 4
+kill -INT $trigger
+wait $trigger
+trigger_status=$?
+sleep 0.5
+kill -INT $logger
+wait $logger
+kill $mirror
+cat /tmp/trigger.txt
+hs-logger --check /tmp/log/*.lcmlog > /tmp/check.json
+pulses=$(sed -n 's/^hs-trigger: \([0-9]*\) pulses, \([0-9]*\) timed by their edge.*/\1/p' /tmp/trigger.txt)
+edges=$(sed -n 's/^hs-trigger: \([0-9]*\) pulses, \([0-9]*\) timed by their edge.*/\2/p' /tmp/trigger.txt)
+recorded=$(grep -A12 '"TRIGGER"' /tmp/check.json | sed -n 's/.*"messages": \([0-9]*\).*/\1/p' | head -1)
+lost=$(grep -A12 '"TRIGGER"' /tmp/check.json | sed -n 's/.*"lost_upstream": \([0-9]*\).*/\1/p' | head -1)
+echo "hs-trigger: exit $trigger_status, $pulses pulses, $edges timed by their edge; TRIGGER recorded $recorded, lost $lost"
+check [ "$trigger_status" = 0 ]
+check [ "${pulses:-0}" -ge 60 ]                      # 4 s at 20 Hz, less the 0.1 s start
+check [ "${edges:-0}" -ge $((pulses * 9 / 10)) ]     # the mirror's edges came back
+check [ "${recorded:-0}" = "$pulses" ]               # every pulse published and recorded
+check [ "${lost:-1}" = 0 ]                           # seq continuous
+exit $status
