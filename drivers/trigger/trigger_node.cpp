@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <gpiod.hpp>
 #include <optional>
 #include <stdexcept>
+#include <system_error>
 
 #include "common/core/monotonic_clock.h"
 #include "common/core/stop_signal.h"
@@ -23,6 +25,17 @@ gpiod::line find_line(gpiod::chip& chip, const std::string& spec) {
   gpiod::line line = number ? chip.get_line(std::stoi(spec)) : chip.find_line(spec);
   if (!line) throw std::runtime_error("GPIO chip " + chip.name() + " has no line '" + spec + "'");
   return line;
+}
+
+// libgpiod throws when the wait is interrupted by a signal (the stop signal is installed without
+// SA_RESTART so that waits end at once): that is no edge, and the loop then sees the stop.
+bool wait_edge(const gpiod::line& line, int64_t timeout_ns) {
+  try {
+    return line.event_wait(std::chrono::nanoseconds(timeout_ns));
+  } catch (const std::system_error& e) {
+    if (e.code().value() == EINTR) return false;
+    throw;
+  }
 }
 
 void sleep_until(int64_t t_ns) {
@@ -86,8 +99,8 @@ void TriggerNode::run() {
     int64_t t_ns = set_ns;
     if (edge) {
       // Edges left over from a pulse whose edge came too late are not this pulse's.
-      while (edge->event_wait(std::chrono::nanoseconds(0))) edge->event_read();
-      if (edge->event_wait(std::chrono::nanoseconds(options_.edge_timeout_ns))) {
+      while (wait_edge(*edge, 0)) edge->event_read();
+      if (wait_edge(*edge, options_.edge_timeout_ns)) {
         const gpiod::line_event ev = edge->event_read();
         t_ns = ev.timestamp.count();
         ++stats_.edges;

@@ -3,6 +3,15 @@
 # (udpm on its loopback) and is recorded and checked there with hs-logger.
 URL='udpm://239.255.76.67:7667?ttl=0'
 status=0
+# Waits (up to 20 s) until file $1 contains $2: a process saying it is ready.
+ready() {
+  i=0
+  while ! grep -q "$2" "$1" 2>/dev/null; do
+    i=$((i + 1))
+    [ $i -gt 200 ] && return 1
+    usleep 100000
+  done
+}
 check() {
   if "$@"; then echo "HIL check $*: PASS"; else echo "HIL check $*: FAIL"; status=1; fi
 }
@@ -30,18 +39,19 @@ trigger:
   output_line: cam-trigger
   edge_line: cam-strobe-in
   rate_hz: 20
-  edge_timeout_s: 0.02
+  pulse_width_s: 0.02          # long enough for the mirror loop to see every pulse under load
+  edge_timeout_s: 0.04
 EOT
 hs-logger --dir /tmp/log --lcm-url "$URL" > /tmp/logger.txt 2>&1 &
 logger=$!
-sleep 1
+ready /tmp/logger.txt recording
 hs-trigger --config /tmp/trigger.yaml --lcm-url "$URL" > /tmp/trigger.txt 2>&1 &
 trigger=$!
 sleep 4
 kill -INT $trigger
 wait $trigger
 trigger_status=$?
-sleep 0.5
+sleep 1
 kill -INT $logger
 wait $logger
 kill $mirror
