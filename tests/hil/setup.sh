@@ -88,6 +88,8 @@ for m in vivid configfs gpio-sim; do
       fi
     done
 done
+# Two vivid instances with a capture node each: /dev/video0 and /dev/video1, a stereo pair.
+echo "n_devs=2 node_types=0x1,0x1 vid_cap_nr=0,1" > "$root/modules/vivid.ko.params"
 # Tools and programs with their shared libraries (and the loader).
 copy_with_libs() {
   local bin=$1

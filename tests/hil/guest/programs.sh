@@ -67,4 +67,53 @@ check [ "${pulses:-0}" -ge 60 ]                      # 4 s at 20 Hz, less the 0.
 check [ "${edges:-0}" -ge $((pulses * 9 / 10)) ]     # the mirror's edges came back
 check [ "${recorded:-0}" = "$pulses" ]               # every pulse published and recorded
 check [ "${lost:-1}" = 0 ]                           # seq continuous
+# hs-camera on the vivid stereo pair, free-running at 30 fps: frames stamped, paired and
+# published; vivid drops half of the right device's buffers for 2 s (percentage_of_dropped_buffers),
+# then the left device is disconnected (vivid's disconnect control, like an unplug) and must come
+# back by itself.
+cat > /tmp/camera.yaml <<EOT
+camera:
+  devices: [/dev/video0, /dev/video1]
+  width: 320
+  height: 180
+  format: YUYV
+  fps: 30
+  max_stereo_skew_s: 0.034     # the two vivid instances free-run: up to a frame apart
+EOT
+hs-logger --dir /tmp/camlog --lcm-url "$URL" > /tmp/camlogger.txt 2>&1 &
+logger=$!
+ready /tmp/camlogger.txt recording
+hs-camera --config /tmp/camera.yaml --lcm-url "$URL" > /tmp/camera.txt 2>&1 &
+camera=$!
+sleep 3
+v4l2-ctl -d /dev/video1 -c percentage_of_dropped_buffers=50
+sleep 2
+v4l2-ctl -d /dev/video1 -c percentage_of_dropped_buffers=0
+v4l2-ctl -d /dev/video0 -c disconnect=1
+sleep 3
+kill -INT $camera
+wait $camera
+camera_status=$?
+sleep 1
+kill -INT $logger
+wait $logger
+cat /tmp/camera.txt
+hs-logger --check /tmp/camlog/*.lcmlog > /tmp/camcheck.json
+summary=$(grep '^hs-camera: .* frames, ' /tmp/camera.txt)
+field() { echo "$summary" | sed -n "s/$1/\1/p"; }
+left=$(field '^hs-camera: \([0-9]*\) + .*')
+published=$(field '.* frames, \([0-9]*\) published.*')
+dropped_left=$(field '.*dropped by the devices \([0-9]*\) + .*')
+dropped_right=$(field '.*dropped by the devices [0-9]* + \([0-9]*\);.*')
+losses=$(field '.*; \([0-9]*\) device losses.*')
+recorded=$(grep -A12 '"CAM_STEREO"' /tmp/camcheck.json | sed -n 's/.*"messages": \([0-9]*\).*/\1/p' | head -1)
+lost=$(grep -A12 '"CAM_STEREO"' /tmp/camcheck.json | sed -n 's/.*"lost_upstream": \([0-9]*\).*/\1/p' | head -1)
+echo "hs-camera: exit $camera_status, left $left, published $published, dropped $dropped_left + $dropped_right, losses $losses; CAM_STEREO recorded $recorded, lost $lost"
+check [ "$camera_status" = 0 ]
+check [ "${left:-0}" -ge 150 ]                       # 8 s at 30 fps, less the reopening
+check [ "${published:-0}" -ge 100 ]                  # paired despite the drops
+check [ "${dropped_right:-0}" -ge 10 ]               # vivid's drops seen in the sequence
+check [ "${losses:-0}" = 1 ]                         # the disconnect, and then frames again
+check [ "${recorded:-0}" = "$published" ]            # every published pair recorded
+check [ "${lost:-1}" = 0 ]
 exit $status

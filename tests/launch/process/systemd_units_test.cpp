@@ -44,8 +44,8 @@ std::map<std::string, std::string> configured_units() {
 
 TEST(SystemdUnits, EveryProcessHasAUnitWithRestartAndTheEnvironmentFile) {
   const auto units = configured_units();
-  for (const char* name : {"hs-trigger.service", "hs-imu.service", "hs-tracker.service",
-                           "hs-mapper.service", "hs-logger.service"}) {
+  for (const char* name : {"hs-camera.service", "hs-trigger.service", "hs-imu.service",
+                           "hs-tracker.service", "hs-mapper.service", "hs-logger.service"}) {
     ASSERT_TRUE(units.count(name)) << name;
     const std::string& u = units.at(name);
     EXPECT_NE(u.find("\nRestart="), std::string::npos) << name;
@@ -58,9 +58,9 @@ TEST(SystemdUnits, EveryProcessHasAUnitWithRestartAndTheEnvironmentFile) {
   EXPECT_NE(tracker.find("\nNice=-"), std::string::npos);
   // The environment file sets what the units use.
   const std::string env = read_file(HS_SOURCE_DIR "/config/systemd/hs-slam.env");
-  for (const char* var :
-       {"LCM_DEFAULT_URL=", "HS_TRIGGER_CONFIG=", "HS_IMU_CONFIG=", "HS_TRACKER_CONFIG=",
-        "HS_MAPPER_CONFIG=", "HS_LOGGER_CONFIG=", "HS_CALIB_DIR=", "HS_MULTICAST_DEV="})
+  for (const char* var : {"LCM_DEFAULT_URL=", "HS_CAMERA_CONFIG=", "HS_TRIGGER_CONFIG=",
+                          "HS_IMU_CONFIG=", "HS_TRACKER_CONFIG=", "HS_MAPPER_CONFIG=",
+                          "HS_LOGGER_CONFIG=", "HS_CALIB_DIR=", "HS_MULTICAST_DEV="})
     EXPECT_NE(env.find(std::string("\n") + var), std::string::npos) << var;
 }
 
