@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <sstream>
 #include <string>
 
 #include "common/core/stop_signal.h"
@@ -29,8 +30,12 @@ before the line was set. Stops on SIGINT/SIGTERM with the line low.)");
     if (!config.empty()) options = hs::load_trigger_options(config);
     auto lcm = hs::connect_lcm(url);
     hs::TriggerNode node(*lcm, options);
-    std::printf("hs-trigger: %s line %s at %.1f Hz%s, publishing %s on %s\n", options.chip.c_str(),
-                options.output_line.c_str(), options.rate_hz,
+    const std::string timing = options.sync_line.empty()
+                                   ? "at " + (std::ostringstream() << options.rate_hz).str() + " Hz"
+                                   : "on every " + std::to_string(options.sync_divider) +
+                                         "th edge of " + options.sync_line;
+    std::printf("hs-trigger: %s line %s %s%s, publishing %s on %s\n", options.chip.c_str(),
+                options.output_line.c_str(), timing.c_str(),
                 options.edge_line.empty() ? "" : (", edges on line " + options.edge_line).c_str(),
                 options.channels.trigger.c_str(), url.c_str());
     std::fflush(stdout);
@@ -38,9 +43,12 @@ before the line was set. Stops on SIGINT/SIGTERM with the line low.)");
     const hs::TriggerStats& s = node.stats();
     std::printf(
         "hs-trigger: %lld pulses, %lld timed by their edge (max delay %.2f ms), %lld "
-        "edges missing, %lld deadlines skipped\n",
+        "edges missing, %lld deadlines skipped; %lld data-ready edges, %lld stalls, %lld late "
+        "pulses (max delay %.2f ms)\n",
         static_cast<long long>(s.pulses), static_cast<long long>(s.edges), s.max_edge_delay_ms,
-        static_cast<long long>(s.missing_edges), static_cast<long long>(s.skipped));
+        static_cast<long long>(s.missing_edges), static_cast<long long>(s.skipped),
+        static_cast<long long>(s.sync_edges), static_cast<long long>(s.sync_timeouts),
+        static_cast<long long>(s.late_pulses), s.max_sync_delay_ms);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hs-trigger: error: %s\n", e.what());
     return 1;

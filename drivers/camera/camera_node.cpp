@@ -8,6 +8,11 @@
 #include "drivers/camera/frame_time.h"
 
 namespace hs {
+namespace {
+
+constexpr int64_t kDegradedHoldNs = 10'000'000'000;  // a problem keeps HEARTBEAT DEGRADED this long
+
+}  // namespace
 
 CameraNode::CameraNode(lcm::LCM& lcm, CameraOptions options)
     : lcm_(lcm), options_(std::move(options)), pairer_(options_.max_stereo_skew_ns) {
@@ -20,14 +25,7 @@ CameraNode::CameraNode(lcm::LCM& lcm, CameraOptions options)
 
 TriggerMatchStats CameraNode::trigger_matching() const {
   TriggerMatchStats sum;
-  for (const Device& d : devices_) {
-    const TriggerMatchStats& s = d.matcher.stats();
-    sum.matched += s.matched;
-    sum.frames_without_trigger += s.frames_without_trigger;
-    sum.triggers_without_frame += s.triggers_without_frame;
-    sum.time_mismatches += s.time_mismatches;
-    sum.relocks += s.relocks;
-  }
+  for (const Device& d : devices_) sum += d.matcher.stats();
   return sum;
 }
 
@@ -46,7 +44,7 @@ void CameraNode::open_missing(int64_t now_ns) {
       problem_.clear();
     } catch (const std::exception& e) {
       ++stats_.open_failures;
-      problem_ = std::string(e.what()) + "; retrying";
+      problem_.set(std::string(e.what()) + "; retrying", now_ns);
       d.next_open_ns = now_ns + options_.reconnect_period_ns;
     }
   }
@@ -95,6 +93,14 @@ void CameraNode::match_waiting(size_t i, int64_t now_ns) {
     if (m.decision == TriggerDecision::kMatched)
       stamped(i, f.sequence,
               mid_exposure_from_trigger_ns(m.trigger_t_ns, options_.format.exposure_ns), f.image);
+    else if (m.decision == TriggerDecision::kNoTrigger)
+      problem_.set(devices_[i].path +
+                       ": frames without a TRIGGER pulse (is hs-trigger running?): "
+                       "dropped",
+                   now_ns);
+    else
+      problem_.set(devices_[i].path + ": a frame and its TRIGGER pulse disagree in time: dropped",
+                   now_ns);
   }
   w.erase(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(done));
 }
@@ -105,7 +111,7 @@ void CameraNode::read_frame(size_t i, int64_t now_ns) {
   const V4l2Device::Status status = d.v4l2->dequeue(0, &f);
   if (status == V4l2Device::Status::kTimeout) return;
   if (status == V4l2Device::Status::kLost) {
-    problem_ = d.path + " lost (" + d.v4l2->lost_reason() + "); retrying";
+    problem_.set(d.path + " lost (" + d.v4l2->lost_reason() + "); retrying", now_ns);
     d.v4l2.reset();
     ++stats_.device_lost;
     waiting_[i].clear();
@@ -120,7 +126,7 @@ void CameraNode::read_frame(size_t i, int64_t now_ns) {
                      d.v4l2->bytes_per_line());
   } catch (const std::exception& e) {
     ++stats_.bad_frames;
-    problem_ = d.path + ": " + e.what();
+    problem_.set(d.path + ": " + e.what(), now_ns);
   }
   d.v4l2->requeue(f.index);  // the copy is ours: give the buffer back at once
   if (d.sequence.add(f.sequence) < 0 || image.empty()) return;
@@ -135,18 +141,20 @@ void CameraNode::read_frame(size_t i, int64_t now_ns) {
             std::move(image));
   } catch (const std::exception& e) {
     ++stats_.bad_frames;
-    problem_ = d.path + ": " + e.what();
+    problem_.set(d.path + ": " + e.what(), now_ns);
   }
 }
 
-void CameraNode::publish_heartbeat() {
+void CameraNode::publish_heartbeat(int64_t now_ns) {
   bool all_open = true;
   for (const Device& d : devices_) all_open &= d.v4l2 != nullptr;
   hsslam::heartbeat_t hb = heartbeat_header(
-      "hs-camera",
-      !all_open ? hsslam::heartbeat_t::ERROR
-                : (problem_.empty() ? hsslam::heartbeat_t::OK : hsslam::heartbeat_t::DEGRADED));
-  hb.message = problem_.empty() ? "capturing" : problem_;
+      "hs-camera", !all_open
+                       ? hsslam::heartbeat_t::ERROR
+                       : (problem_.recent(now_ns, kDegradedHoldNs) ? hsslam::heartbeat_t::DEGRADED
+                                                                   : hsslam::heartbeat_t::OK));
+  hb.message = problem_.empty() ? "capturing" : "capturing; last problem: " + problem_.text();
+  if (!all_open) hb.message = problem_.text();
   hb.queue_names = {"held_images"};
   hb.queue_depths = {static_cast<int32_t>(held_.size())};
   hb.num_queues = 1;
@@ -189,7 +197,7 @@ void CameraNode::run() {
       if (fds[k].revents) read_frame(which[k], now);
     for (size_t i = 0; i < devices_.size(); ++i) match_waiting(i, now);  // late TRIGGERs
     if (now >= next_heartbeat) {
-      publish_heartbeat();
+      publish_heartbeat(now);
       next_heartbeat = now + options_.heartbeat_period_ns;
     }
   }

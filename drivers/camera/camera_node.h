@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/core/problem_report.h"
 #include "drivers/camera/camera_options.h"
 #include "drivers/camera/sequence_tracker.h"
 #include "drivers/camera/stereo_pairer.h"
@@ -60,7 +61,7 @@ class CameraNode {
   void match_waiting(size_t i, int64_t now_ns);
   void stamped(size_t i, uint32_t sequence, int64_t t_ns, cv::Mat image);
   void publish(int64_t t_ns, const cv::Mat& left, const cv::Mat& right);
-  void publish_heartbeat();
+  void publish_heartbeat(int64_t now_ns);
   static void on_trigger(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                          const hsslam::trigger_t* msg, CameraNode* self);
 
@@ -72,7 +73,7 @@ class CameraNode {
   std::map<size_t, cv::Mat> held_;  // images of frames the pairer holds, by handle
   size_t next_handle_ = 0;
   int64_t seq_ = 0;
-  std::string problem_;
+  ProblemReport problem_{"hs-camera"};
   CameraStats stats_;
 };
 

@@ -23,6 +23,15 @@ struct TriggerMatchStats {
   int64_t triggers_without_frame = 0;
   int64_t time_mismatches = 0;
   int64_t relocks = 0;
+
+  TriggerMatchStats& operator+=(const TriggerMatchStats& o) {
+    matched += o.matched;
+    frames_without_trigger += o.frames_without_trigger;
+    triggers_without_frame += o.triggers_without_frame;
+    time_mismatches += o.time_mismatches;
+    relocks += o.relocks;
+    return *this;
+  }
 };
 
 enum class TriggerDecision { kMatched, kWait, kNoTrigger, kTimeMismatch };

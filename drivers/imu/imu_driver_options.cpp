@@ -14,7 +14,8 @@ ImuDriverOptions load_imu_driver_options(const std::string& path) {
   ConfigSection top = ConfigSection::load(path);
   top.section("imu", [&](ConfigSection& s) {
     s.read("backend", o.backend);
-    if (o.backend != "xsens") s.fail("backend", "must be 'xsens' (the Xsens MT serial protocol)");
+    if (o.backend != "xsens" && o.backend != "iio")
+      s.fail("backend", "must be 'xsens' (the Xsens MT serial protocol) or 'iio' (Linux IIO)");
     s.read("device", o.device);
     if (o.device.empty()) s.fail("device", "must name a serial device");
     s.read("baud", o.baud);
@@ -26,6 +27,24 @@ ImuDriverOptions load_imu_driver_options(const std::string& path) {
     s.read("batch_size", o.batch_size);
     if (o.batch_size < 1 || o.batch_size > 100) s.fail("batch_size", "must be 1 ... 100");
     s.read_period("reconnect_period_s", o.reconnect_period_ns);
+  });
+  top.section("iio", [&](ConfigSection& s) {
+    IioOptions& iio = o.iio;
+    s.read("device", iio.device);
+    if (iio.device.empty()) s.fail("device", "must name an IIO device (its name or iio:deviceN)");
+    s.read("trigger", iio.trigger);
+    s.read("sampling_frequency_hz", iio.sampling_frequency_hz);
+    if (iio.sampling_frequency_hz < 0) s.fail("sampling_frequency_hz", "must be >= 0");
+    s.read("buffer_length", iio.buffer_length);
+    if (iio.buffer_length < 2 || iio.buffer_length > 65536)
+      s.fail("buffer_length", "must be 2 ... 65536");
+    for (const auto& [key, axes] :
+         {std::pair{"accel_channels", &iio.accel}, std::pair{"gyro_channels", &iio.gyro}}) {
+      std::vector<std::string> names;
+      if (!s.read(key, names)) continue;
+      if (names.size() != 3) s.fail(key, "must list 3 scan elements (x, y, z)");
+      for (int i = 0; i < 3; ++i) (*axes)[i] = names[i];
+    }
   });
   top.section("clock", [&](ConfigSection& s) { s.read_period("window_s", o.clock.window_ns); });
   read_process_tail(top, o.heartbeat_period_ns, o.channels);

@@ -5,13 +5,15 @@
 
 #include "common/config/channels.h"
 #include "drivers/imu/device_clock.h"
+#include "drivers/imu/iio_device.h"
 
 namespace hs {
 
 struct ImuDriverOptions {
-  std::string backend = "xsens";  // the Xsens MT serial protocol (MTData2)
-  std::string device = "/dev/ttyUSB0";
-  int baud = 921600;
+  std::string backend = "xsens";  // xsens: the Xsens MT serial protocol (MTData2); iio: Linux IIO
+  std::string device = "/dev/ttyUSB0";  // xsens
+  int baud = 921600;                    // xsens
+  IioOptions iio;
   int batch_size = 4;  // samples per IMU message (200 Hz: 50 messages/s)
   int64_t reconnect_period_ns = 1'000'000'000;
   DeviceClockOptions clock;  // window_ns from config; the rest set by the backend

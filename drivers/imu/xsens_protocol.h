@@ -27,6 +27,16 @@ struct XsensCounters {
   int64_t incomplete = 0;      // MTData2 without time, acceleration or rate of turn: dropped
   int64_t other_messages = 0;  // valid, not MTData2 (acks, errors): skipped
   int64_t skipped_bytes = 0;   // bytes outside any valid message (noise, a resync)
+
+  XsensCounters& operator+=(const XsensCounters& o) {
+    samples += o.samples;
+    bad_checksum += o.bad_checksum;
+    malformed += o.malformed;
+    incomplete += o.incomplete;
+    other_messages += o.other_messages;
+    skipped_bytes += o.skipped_bytes;
+    return *this;
+  }
 };
 
 constexpr double kXsensSampleTimeHz = 10'000.0;

@@ -34,13 +34,7 @@ std::vector<ImuSample> XsensStream::feed(const uint8_t* data, size_t size, int64
 
 XsensCounters XsensStream::protocol() const {
   XsensCounters sum = before_reset_;
-  const XsensCounters& now = parser_.counters();
-  sum.samples += now.samples;
-  sum.bad_checksum += now.bad_checksum;
-  sum.malformed += now.malformed;
-  sum.incomplete += now.incomplete;
-  sum.other_messages += now.other_messages;
-  sum.skipped_bytes += now.skipped_bytes;
+  sum += parser_.counters();
   return sum;
 }
 

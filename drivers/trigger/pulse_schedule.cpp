@@ -19,4 +19,14 @@ int64_t PulseSchedule::next(int64_t now_ns) {
   return deadline(k_++);
 }
 
+bool SyncDivider::edges(int pending) {
+  bool due = false;
+  for (int i = 0; i < pending; ++i) {
+    if (count_++ % divider_ != 0) continue;
+    due = true;
+    if (i + 1 < pending) ++late_;
+  }
+  return due;
+}
+
 }  // namespace hs

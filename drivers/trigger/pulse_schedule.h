@@ -23,4 +23,21 @@ class PulseSchedule {
   int64_t deadline(int64_t k) const;
 };
 
+// Phase lock: which data-ready edges get a pulse: every divider-th, counted from the first
+// after a (re)start. Edges read together (the process was late) keep the count; a pulse due at
+// an older one of them is still given, late (its loopback edge still times it), and counted.
+class SyncDivider {
+ public:
+  explicit SyncDivider(int divider) : divider_(divider) {}
+  // `pending` edges read at once: true when one of them is due a pulse.
+  bool edges(int pending);
+  void restart() { count_ = 0; }  // the data-ready line stalled: phase from the next edge
+  int64_t late() const { return late_; }
+
+ private:
+  int divider_;
+  int64_t count_ = 0;
+  int64_t late_ = 0;
+};
+
 }  // namespace hs

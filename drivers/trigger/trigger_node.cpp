@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 #include "common/core/monotonic_clock.h"
 #include "common/core/stop_signal.h"
@@ -53,15 +54,31 @@ TriggerNode::TriggerNode(lcm::LCM& lcm, TriggerOptions options)
 void TriggerNode::publish_heartbeat(int8_t state) {
   hsslam::heartbeat_t hb = heartbeat_header("hs-trigger", state);
   hb.message = "pulsing " + options_.chip + " line " + options_.output_line;
+  if (!options_.sync_line.empty())
+    hb.message += " on every " + std::to_string(options_.sync_divider) + "th edge of line " +
+                  options_.sync_line;
   if (stats_.missing_edges > 0) hb.message += "; edges missing";
+  if (stats_.sync_timeouts > 0) hb.message += "; data-ready edges stalled";
   const std::vector<std::pair<std::string, int64_t>> counters = {
       {"pulses", stats_.pulses},
       {"edges", stats_.edges},
       {"missing_edges", stats_.missing_edges},
       {"skipped", stats_.skipped},
-      {"max_edge_delay_us", static_cast<int64_t>(stats_.max_edge_delay_ms * 1000)}};
+      {"max_edge_delay_us", static_cast<int64_t>(stats_.max_edge_delay_ms * 1000)},
+      {"sync_edges", stats_.sync_edges},
+      {"sync_timeouts", stats_.sync_timeouts},
+      {"late_pulses", stats_.late_pulses},
+      {"max_sync_delay_us", static_cast<int64_t>(stats_.max_sync_delay_ms * 1000)}};
   add_counters(hb, counters);
   lcm_.publish(options_.channels.heartbeat, &hb);
+}
+
+void TriggerNode::heartbeat_if_due() {
+  const int64_t now = monotonic_ns();
+  if (now < next_heartbeat_ns_) return;
+  const bool degraded = stats_.missing_edges > 0 || stats_.skipped > 0 || stats_.sync_timeouts > 0;
+  publish_heartbeat(degraded ? hsslam::heartbeat_t::DEGRADED : hsslam::heartbeat_t::OK);
+  next_heartbeat_ns_ = now + options_.heartbeat_period_ns;
 }
 
 void TriggerNode::run() {
@@ -78,22 +95,46 @@ void TriggerNode::run() {
     throw std::runtime_error("cannot drive line '" + options_.output_line +
                              "' (busy?): " + e.what());
   }
-  std::optional<gpiod::line> edge;
-  if (!options_.edge_line.empty()) {
-    edge = find_line(chip, options_.edge_line);
+  auto watch = [&](const std::string& name) {
+    gpiod::line line = find_line(chip, name);
     try {
-      edge->request({"hs-trigger", gpiod::line_request::EVENT_RISING_EDGE, 0});
+      line.request({"hs-trigger", gpiod::line_request::EVENT_RISING_EDGE, 0});
     } catch (const std::exception& e) {
-      throw std::runtime_error("cannot watch line '" + options_.edge_line + "': " + e.what());
+      throw std::runtime_error("cannot watch line '" + name + "': " + e.what());
     }
-  }
+    return line;
+  };
+  std::optional<gpiod::line> edge, sync;
+  if (!options_.edge_line.empty()) edge = watch(options_.edge_line);
+  if (!options_.sync_line.empty()) sync = watch(options_.sync_line);
   PulseSchedule schedule(monotonic_ns() + 100'000'000, options_.rate_hz);
-  int64_t next_heartbeat = 0;
+  SyncDivider divider(options_.sync_divider);
   while (!stop_requested()) {
-    const int64_t deadline = schedule.next(monotonic_ns());
-    stats_.skipped = schedule.skipped();
-    sleep_until(deadline);
-    if (stop_requested()) break;
+    int64_t sync_ns = -1;
+    if (sync) {
+      if (!wait_edge(*sync, options_.sync_timeout_ns)) {
+        if (!stop_requested()) {
+          ++stats_.sync_timeouts;
+          divider.restart();
+        }
+        heartbeat_if_due();
+        continue;
+      }
+      const std::vector<gpiod::line_event> events = sync->event_read_multiple();
+      stats_.sync_edges += static_cast<int64_t>(events.size());
+      const bool due = divider.edges(static_cast<int>(events.size()));
+      stats_.late_pulses = divider.late();
+      if (!due) {
+        heartbeat_if_due();
+        continue;
+      }
+      sync_ns = events.back().timestamp.count();
+    } else {
+      const int64_t deadline = schedule.next(monotonic_ns());
+      stats_.skipped = schedule.skipped();
+      sleep_until(deadline);
+      if (stop_requested()) break;
+    }
     const int64_t set_ns = monotonic_ns();
     out.set_value(1);
     int64_t t_ns = set_ns;
@@ -109,19 +150,15 @@ void TriggerNode::run() {
         ++stats_.missing_edges;
       }
     }
+    if (sync_ns >= 0)
+      stats_.max_sync_delay_ms = std::max(stats_.max_sync_delay_ms, (t_ns - sync_ns) / 1e6);
     sleep_until(set_ns + options_.pulse_width_ns);
     out.set_value(0);
     hsslam::trigger_t msg;
     msg.t_ns = t_ns;
     msg.seq = stats_.pulses++;
     lcm_.publish(options_.channels.trigger, &msg);
-    const int64_t now = monotonic_ns();
-    if (now >= next_heartbeat) {
-      publish_heartbeat(stats_.missing_edges > 0 || stats_.skipped > 0
-                            ? hsslam::heartbeat_t::DEGRADED
-                            : hsslam::heartbeat_t::OK);
-      next_heartbeat = now + options_.heartbeat_period_ns;
-    }
+    heartbeat_if_due();
   }
   publish_heartbeat(hsslam::heartbeat_t::STOPPING);
 }

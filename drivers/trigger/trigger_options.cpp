@@ -19,6 +19,10 @@ TriggerOptions load_trigger_options(const std::string& path) {
     if (o.pulse_width_ns * o.rate_hz >= 1e9)
       s.fail("pulse_width_s", "must be shorter than a period");
     s.read_period("edge_timeout_s", o.edge_timeout_ns);
+    s.read("sync_line", o.sync_line);
+    s.read("sync_divider", o.sync_divider);
+    if (o.sync_divider < 1 || o.sync_divider > 1000) s.fail("sync_divider", "must be 1 ... 1000");
+    s.read_period("sync_timeout_s", o.sync_timeout_ns);
   });
   read_process_tail(top, o.heartbeat_period_ns, o.channels);
   return o;

@@ -10,29 +10,12 @@
 #include <vector>
 
 #include "common/core/error.h"
+#include "tests/common/temp_dir.h"
 
 namespace hs::test {
 
 inline const std::string kSampleRoot = HS_SOURCE_DIR "/tests/data/euroc_v1_01_static_sample";
 inline const std::string kSharedEuroc = HS_SOURCE_DIR "/../shared/data/euroc";
-
-// A temp directory removed with its contents at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    char name[] = "/tmp/hs_dataset_XXXXXX";
-    path_ = ::mkdtemp(name) ? name : "";
-    EXPECT_FALSE(path_.empty());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 // A writable copy of the sample; mav0() is its mav0 folder.
 class SampleCopy {

@@ -19,11 +19,29 @@ TEST(ImuDriverOptions, BadValuesAreClearErrors) {
   test::TempYaml backend("imu:\n  backend: mavlink\n");
   test::expect_input_error([&] { load_imu_driver_options(backend.path()); },
                            {backend.path() + ":2", "must be 'xsens'"});
+  test::TempYaml axes("iio:\n  gyro_channels: [in_anglvel_x, in_anglvel_y]\n");
+  test::expect_input_error([&] { load_imu_driver_options(axes.path()); },
+                           {axes.path() + ":2", "3 scan elements"});
+  test::TempYaml length("iio:\n  buffer_length: 1\n");
+  test::expect_input_error([&] { load_imu_driver_options(length.path()); }, {"2 ... 65536"});
   test::TempYaml baud("imu:\n  baud: 1000\n");
   test::expect_input_error([&] { load_imu_driver_options(baud.path()); },
                            {baud.path() + ":2", "unsupported baud rate 1000"});
   test::TempYaml batch("imu:\n  batch_size: 0\n");
   test::expect_input_error([&] { load_imu_driver_options(batch.path()); }, {"1 ... 100"});
+}
+
+TEST(ImuDriverOptions, IioSection) {
+  test::TempYaml yaml(
+      "imu:\n  backend: iio\niio:\n  device: iio:device3\n  trigger: t0\n"
+      "  sampling_frequency_hz: 400\n  accel_channels: [in_accel_y, in_accel_x, in_accel_z]\n");
+  const ImuDriverOptions o = load_imu_driver_options(yaml.path());
+  EXPECT_EQ(o.backend, "iio");
+  EXPECT_EQ(o.iio.device, "iio:device3");
+  EXPECT_EQ(o.iio.trigger, "t0");
+  EXPECT_EQ(o.iio.sampling_frequency_hz, 400);
+  EXPECT_EQ(o.iio.accel[0], "in_accel_y");
+  EXPECT_EQ(o.iio.gyro[2], "in_anglvel_z");
 }
 
 TEST(ImuDriverOptions, OneMessageOnTheWire) {

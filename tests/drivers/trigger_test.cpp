@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "drivers/trigger/pulse_schedule.h"
 #include "drivers/trigger/trigger_options.h"
 #include "tests/config/config_test_util.h"
@@ -27,6 +29,23 @@ TEST(PulseSchedule, DeadlinesMissedByAWholePeriodAreSkippedAndCounted) {
   EXPECT_EQ(s.skipped(), 5);
 }
 
+TEST(SyncDivider, EveryNthEdgeFromTheFirstLateOnesCounted) {
+  SyncDivider d(3);
+  std::vector<bool> due;
+  for (int i = 0; i < 7; ++i) due.push_back(d.edges(1));
+  EXPECT_EQ(due, (std::vector<bool>{true, false, false, true, false, false, true}));
+  // Edges 8 and 9 read together: neither due; 10, 11 and 12: 10 was due, given late.
+  EXPECT_FALSE(d.edges(2));
+  EXPECT_TRUE(d.edges(3));
+  EXPECT_EQ(d.late(), 1);
+  EXPECT_TRUE(d.edges(1));   // edge 13
+  EXPECT_FALSE(d.edges(1));  // edge 14
+  d.restart();               // the line stalled: the next edge is due
+  EXPECT_TRUE(d.edges(1));
+  EXPECT_TRUE(d.edges(3));  // the newest of three edges is due: on time
+  EXPECT_EQ(d.late(), 1);
+}
+
 TEST(TriggerOptions, ShippedConfigAndBadValues) {
   const TriggerOptions o = load_trigger_options(HS_SOURCE_DIR "/config/trigger.yaml");
   EXPECT_EQ(o.chip, "gpiochip0");
@@ -35,6 +54,10 @@ TEST(TriggerOptions, ShippedConfigAndBadValues) {
   test::TempYaml wide("trigger:\n  rate_hz: 100\n  pulse_width_s: 0.02\n");
   test::expect_input_error([&] { load_trigger_options(wide.path()); },
                            {wide.path() + ":3", "shorter than a period"});
+  EXPECT_EQ(o.sync_line, "");
+  EXPECT_EQ(o.sync_divider, 10);
+  test::TempYaml divider("trigger:\n  sync_divider: 0\n");
+  test::expect_input_error([&] { load_trigger_options(divider.path()); }, {"1 ... 1000"});
   test::TempYaml rate("trigger:\n  rate_hz: 0\n");
   test::expect_input_error([&] { load_trigger_options(rate.path()); }, {"(0, 1000]"});
 }

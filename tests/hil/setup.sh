@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Prepares the hardware-in-the-loop harness: Debian's own kernel (the version linux-image-amd64
-# points to today) with vivid (virtual V4L2 cameras) and gpio-sim (built here out of tree from
-# Debian's linux-source: Debian does not ship it), and an initramfs holding busybox, the modules,
+# points to today) with vivid (virtual V4L2 cameras), gpio-sim and the IIO dummy device with the
+# hrtimer trigger (built here out of tree from Debian's linux-source: Debian does not ship them),
+# and an initramfs holding busybox, the modules,
 # the V4L2/GPIO tools, the programs under test and their shared libraries. Idempotent.
 #   tests/hil/setup.sh WORKDIR [PROGRAM...]      (root: installs packages with apt-get)
 # Exit 77 (skip) when the packages are missing and cannot be installed.
@@ -52,23 +53,34 @@ if [ ! -f "kernel/.done-$kver" ]; then
     "kheaders/usr/src/linux-headers-$kver/Makefile"
   touch "kernel/.done-$kver"
 fi
-if [ ! -f "mod/.done-$kver" ]; then
-  log "building irq-sim and gpio-sim out of tree"
+if [ ! -f "mod/.done-$kver-iio" ]; then
+  log "building irq-sim, gpio-sim and the IIO dummy device out of tree"
   rm -rf mod && mkdir mod
   dpkg-deb --fsys-tarfile debs/linux-source-*.deb |
     tar -xO "./usr/src/linux-source-$upstream.tar.xz" |
     tar -xJ -C mod --strip-components=3 --wildcards '*/drivers/gpio/gpio-sim.c' \
-      '*/drivers/gpio/gpiolib.h' '*/kernel/irq/irq_sim.c'
+      '*/drivers/gpio/gpiolib.h' '*/kernel/irq/irq_sim.c' '*/drivers/iio/industrialio-configfs.c' \
+      '*/drivers/iio/industrialio-sw-*.c' '*/drivers/iio/trigger/iio-trig-hrtimer.c' \
+      '*/drivers/iio/dummy/iio_simple_dummy*.[ch]'
+  find mod -mindepth 2 -type f -exec mv -t mod {} +  # one flat folder
   # irq_to_desc is not exported to modules; generic_handle_irq does the same here.
   sed -i 's/handle_simple_irq(irq_to_desc(\([a-z_]*\)))/generic_handle_irq(\1)/' mod/irq_sim.c
   grep -q 'generic_handle_irq(irqnum)' mod/irq_sim.c
   printf '#include <linux/module.h>\nMODULE_LICENSE("GPL");\n' > mod/irq_sim_mod.c
-  printf 'obj-m += irq-sim.o gpio-sim.o\nirq-sim-y := irq_sim.o irq_sim_mod.o\n' > mod/Kbuild
+  # Debian builds IIO without its configfs, software devices and triggers: the dummy device
+  # (its triggered buffer) and the hrtimer trigger need them.
+  cat > mod/Kbuild <<'EOK'
+obj-m += irq-sim.o gpio-sim.o industrialio-configfs.o industrialio-sw-device.o \
+         industrialio-sw-trigger.o iio-trig-hrtimer.o iio_dummy.o
+irq-sim-y := irq_sim.o irq_sim_mod.o
+iio_dummy-y := iio_simple_dummy.o iio_simple_dummy_buffer.o
+ccflags-y += -DCONFIG_IIO_SIMPLE_DUMMY_BUFFER
+EOK
   make -s -C "kheaders/usr/src/linux-headers-$kver" M="$work/mod" modules 2>&1 | grep -v BTF || true
   mkdir -p "kernel/lib/modules/$kver/extra"
   cp mod/*.ko "kernel/lib/modules/$kver/extra/"
   depmod -b kernel "$kver"
-  touch "mod/.done-$kver"
+  touch "mod/.done-$kver-iio"
 fi
 
 log "building the initramfs"
@@ -78,7 +90,7 @@ mkdir -p "$root"/{bin,dev,proc,sys,tmp,modules,hil,lib64,out}
 cp /bin/busybox "$root/bin/busybox"
 # Modules in load order, for busybox insmod.
 : > "$root/modules/order"
-for m in vivid configfs gpio-sim; do
+for m in vivid configfs gpio-sim iio-trig-hrtimer iio_dummy; do
   modprobe -d kernel -S "$kver" --show-depends "$m" | awk '$1 == "insmod" {print $2}' |
     while read -r ko; do
       name=$(basename "$ko")

@@ -19,12 +19,14 @@ vivid_streams() {
       > /tmp/stream.txt 2>&1
   grep -q 'ts-monotonic' /tmp/stream.txt && [ "$(grep -c 'seq:' /tmp/stream.txt)" -ge 20 ]
 }
-# gpio-sim through configfs: a chip with 8 lines, two of them named for the camera trigger.
+# gpio-sim through configfs: a chip with 8 lines, two of them named for the camera trigger and
+# one for an IMU's data-ready output.
 gpio_sim_chip() {
   d=/sys/kernel/config/gpio-sim/hil
-  mkdir -p $d/bank0/line0 $d/bank0/line1 &&
+  mkdir -p $d/bank0/line0 $d/bank0/line1 $d/bank0/line2 &&
     echo 8 > $d/bank0/num_lines && echo hil-sim > $d/bank0/label &&
     echo cam-trigger > $d/bank0/line0/name && echo cam-strobe-in > $d/bank0/line1/name &&
+    echo imu-drdy > $d/bank0/line2/name &&
     echo 1 > $d/live &&
     gpiodetect | grep -q 'hil-sim'
 }

@@ -1,0 +1,237 @@
+#include "drivers/imu/iio_device.h"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/core/error.h"
+
+namespace hs {
+namespace {
+
+std::optional<std::string> read_attr(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  std::string value;
+  std::getline(in, value);
+  return value;
+}
+
+void write_attr(const std::string& path, const std::string& value, const std::string& what) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0)
+    throw std::runtime_error("cannot set " + what + " (" + path + "): " + std::strerror(errno));
+  const ssize_t n = ::write(fd, value.data(), value.size());
+  const int err = errno;
+  ::close(fd);
+  if (n != static_cast<ssize_t>(value.size()))
+    throw std::runtime_error("cannot set " + what + " to '" + value + "' (" + path +
+                             "): " + std::strerror(err));
+}
+
+bool exists(const std::string& path) {
+  return ::access(path.c_str(), F_OK) == 0;
+}
+
+std::vector<std::string> list_dir(const std::string& dir) {
+  std::vector<std::string> names;
+  if (DIR* d = ::opendir(dir.c_str())) {
+    while (const dirent* e = ::readdir(d))
+      if (e->d_name[0] != '.') names.emplace_back(e->d_name);
+    ::closedir(d);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string find_device(const IioOptions& o) {
+  std::string names;
+  for (const std::string& entry : list_dir(o.sysfs_root)) {
+    if (entry.rfind("iio:device", 0) != 0) continue;
+    const std::string name = read_attr(o.sysfs_root + "/" + entry + "/name").value_or("");
+    if (entry == o.device || name == o.device) return entry;
+    names += (names.empty() ? "" : ", ") + entry + " (" + name + ")";
+  }
+  throw std::runtime_error("no IIO device '" + o.device + "' in " + o.sysfs_root +
+                           (names.empty() ? " (none there)" : "; there are: " + names));
+}
+
+// A channel's scale or offset: its own attribute, else the one shared by its type
+// (in_accel_x -> in_accel_scale), else `fallback`.
+double channel_attr(const std::string& dir, const std::string& channel, const std::string& attr,
+                    double fallback) {
+  const size_t type_end = channel.find_first_not_of("abcdefghijklmnopqrstuvwxyz", 3);
+  for (const std::string& base : {channel, channel.substr(0, type_end)}) {
+    if (const auto text = read_attr(dir + "/" + base + "_" + attr)) {
+      try {
+        return std::stod(*text);
+      } catch (const std::exception&) {
+        throw InputError(dir + "/" + base + "_" + attr + ": '" + *text + "' is not a number");
+      }
+    }
+  }
+  return fallback;
+}
+
+std::string find_trigger_dir(const std::string& root, const std::string& trigger) {
+  for (const std::string& entry : list_dir(root))
+    if (entry.rfind("trigger", 0) == 0 && read_attr(root + "/" + entry + "/name") == trigger)
+      return root + "/" + entry;
+  return "";
+}
+
+}  // namespace
+
+IioDevice::IioDevice(const IioOptions& o) {
+  const std::string entry = find_device(o);
+  dir_ = o.sysfs_root + "/" + entry;
+  name_ = entry + " (" + read_attr(dir_ + "/name").value_or("?") + ")";
+  const std::string scan_dir = dir_ + "/scan_elements";
+  std::vector<std::string> available;
+  for (const std::string& f : list_dir(scan_dir))
+    if (f.size() > 3 && f.compare(f.size() - 3, 3, "_en") == 0)
+      available.push_back(f.substr(0, f.size() - 3));
+  if (available.empty())
+    throw std::runtime_error(name_ + " has no scan elements: not a buffered IIO device");
+
+  // Each configured channel once, then the kernel's timestamp.
+  std::vector<std::string> wanted;
+  for (const auto* axes : {&o.accel, &o.gyro})
+    for (const std::string& c : *axes)
+      if (std::find(wanted.begin(), wanted.end(), c) == wanted.end()) wanted.push_back(c);
+  wanted.push_back("in_timestamp");
+  std::string all;
+  for (const std::string& a : available) all += (all.empty() ? "" : ", ") + a;
+  for (const std::string& c : wanted)
+    if (std::find(available.begin(), available.end(), c) == available.end())
+      throw InputError(name_ + " has no scan element '" + c + "'" +
+                       (c == "in_timestamp" ? " (samples need the kernel's timestamps)" : "") +
+                       "; its scan elements: " + all);
+
+  // Busy: the kernel lets one reader open the buffer.
+  const std::string dev = o.dev_root + "/" + entry;
+  fd_ = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd_ < 0)
+    throw std::runtime_error("cannot open " + dev + ": " + std::strerror(errno) +
+                             (errno == EBUSY ? " (another reader has it)" : ""));
+  try {
+    // A buffer left enabled by a reader that died is stopped before the settings change.
+    write_attr(dir_ + "/buffer/enable", "0", "the buffer");
+    if (exists(dir_ + "/current_timestamp_clock"))
+      write_attr(dir_ + "/current_timestamp_clock", "monotonic", "the timestamp clock");
+    if (!o.trigger.empty()) {
+      write_attr(dir_ + "/trigger/current_trigger", o.trigger, "the trigger");
+      if (read_attr(dir_ + "/trigger/current_trigger") != o.trigger)
+        throw std::runtime_error(name_ + " did not take trigger '" + o.trigger + "'");
+    }
+    if (o.sampling_frequency_hz > 0) {
+      // A software trigger (hrtimer, sysfs) sets the rate itself; else the device does.
+      const std::string trigger_dir =
+          o.trigger.empty() ? "" : find_trigger_dir(o.sysfs_root, o.trigger);
+      std::string target;
+      for (const std::string& t : {trigger_dir.empty() ? "" : trigger_dir + "/sampling_frequency",
+                                   dir_ + "/sampling_frequency", dir_ + "/in_sampling_frequency"})
+        if (target.empty() && !t.empty() && exists(t)) target = t;
+      if (target.empty())
+        throw std::runtime_error(name_ + " and its trigger have no sampling_frequency to set");
+      std::ostringstream hz;
+      hz << o.sampling_frequency_hz;
+      write_attr(target, hz.str(), "the sampling frequency");
+    }
+    for (const std::string& a : available)
+      write_attr(scan_dir + "/" + a + "_en",
+                 std::find(wanted.begin(), wanted.end(), a) == wanted.end() ? "0" : "1",
+                 "scan element " + a);
+    for (const std::string& c : wanted) {
+      IioScanChannel ch;
+      ch.name = c;
+      const auto index = read_attr(scan_dir + "/" + c + "_index");
+      const auto type = read_attr(scan_dir + "/" + c + "_type");
+      if (!index || !type)
+        throw InputError(name_ + ": scan element " + c + " lacks its index or type");
+      try {
+        ch.index = std::stoi(*index);
+      } catch (const std::exception&) {
+        throw InputError(scan_dir + "/" + c + "_index: '" + *index + "' is not a number");
+      }
+      ch.type = parse_iio_scan_type(*type);
+      channels_.push_back(ch);
+    }
+    scan_bytes_ = layout_iio_scan(channels_);
+    auto position = [&](const std::string& c) {
+      return static_cast<size_t>(
+          std::find_if(channels_.begin(), channels_.end(),
+                       [&](const IioScanChannel& ch) { return ch.name == c; }) -
+          channels_.begin());
+    };
+    const IioScanType& ts = channels_[position("in_timestamp")].type;
+    if (ts.storagebits != 64 || !ts.is_signed)
+      throw InputError(name_ + ": in_timestamp is not a signed 64-bit value");
+    timestamp_ = position("in_timestamp");
+    for (int i = 0; i < 3; ++i) {
+      accel_[i] = {position(o.accel[i]), channel_attr(dir_, o.accel[i], "scale", 1),
+                   channel_attr(dir_, o.accel[i], "offset", 0)};
+      gyro_[i] = {position(o.gyro[i]), channel_attr(dir_, o.gyro[i], "scale", 1),
+                  channel_attr(dir_, o.gyro[i], "offset", 0)};
+    }
+    if (exists(dir_ + "/buffer/length"))
+      write_attr(dir_ + "/buffer/length", std::to_string(o.buffer_length), "the buffer length");
+    try {
+      write_attr(dir_ + "/buffer/enable", "1", "the buffer");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(e.what()) +
+                               (o.trigger.empty() ? " (no trigger given: set iio.trigger?)" : ""));
+    }
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+}
+
+IioDevice::~IioDevice() {
+  try {
+    write_attr(dir_ + "/buffer/enable", "0", "the buffer");
+  } catch (const std::exception&) {
+    // The device is gone: nothing to stop.
+  }
+  ::close(fd_);
+}
+
+IioDevice::ReadStatus IioDevice::read(int timeout_ms, std::vector<ImuSample>* samples) {
+  pollfd p{fd_, POLLIN, 0};
+  if (::poll(&p, 1, timeout_ms) < 0 && errno != EINTR) return ReadStatus::kLost;
+  // Read even when poll saw nothing: a removed device polls as idle and reads ENODEV.
+  uint8_t buffer[4096];
+  const ssize_t n = ::read(fd_, buffer, sizeof(buffer) / scan_bytes_ * scan_bytes_);
+  if (n < 0) return errno == EAGAIN || errno == EINTR ? ReadStatus::kTimeout : ReadStatus::kLost;
+  if (n == 0) return ReadStatus::kLost;  // end of file: a pipe's writer gone (tests)
+  carry_.insert(carry_.end(), buffer, buffer + n);
+  size_t used = 0;
+  for (; carry_.size() - used >= scan_bytes_; used += scan_bytes_) {
+    const uint8_t* scan = carry_.data() + used;
+    ImuSample s;
+    s.t_ns = decode_iio_value(scan, channels_[timestamp_]);
+    for (int i = 0; i < 3; ++i) {
+      s.accel[i] = (static_cast<double>(decode_iio_value(scan, channels_[accel_[i].channel])) +
+                    accel_[i].offset) *
+                   accel_[i].scale;
+      s.gyro[i] = (static_cast<double>(decode_iio_value(scan, channels_[gyro_[i].channel])) +
+                   gyro_[i].offset) *
+                  gyro_[i].scale;
+    }
+    samples->push_back(s);
+  }
+  carry_.erase(carry_.begin(), carry_.begin() + static_cast<std::ptrdiff_t>(used));
+  return ReadStatus::kData;
+}
+
+}  // namespace hs
