@@ -25,6 +25,7 @@ CameraOptions load_camera_options(const std::string& path) {
     s.read("fps", o.format.fps);
     if (!(o.format.fps > 0 && o.format.fps <= 500)) s.fail("fps", "must be in (0, 500]");
     s.read_seconds("exposure_s", o.format.exposure_ns);
+    s.read("exposure_control", o.format.exposure_control);
     s.read("gain", o.format.gain);
     std::string mode = "free-running";
     s.read("mode", mode);

@@ -81,12 +81,12 @@ V4l2Device::V4l2Device(const std::string& path, const V4l2Format& want, int buff
            std::to_string(got.numerator ? static_cast<double>(got.denominator) / got.numerator
                                         : 0.0) +
            " Hz)");
-    if (want.exposure_ns > 0) {
+    if (want.exposure_ns > 0 && want.exposure_control) {
       set_control(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL, "manual exposure");
       set_control(V4L2_CID_EXPOSURE_ABSOLUTE, static_cast<int>(want.exposure_ns / 100'000),
                   "exposure");  // in units of 100 us
-      exposure_ns_ = want.exposure_ns;
     }
+    exposure_ns_ = want.exposure_ns;
     if (want.gain >= 0) set_control(V4L2_CID_GAIN, want.gain, "gain");
 
     v4l2_requestbuffers req{};

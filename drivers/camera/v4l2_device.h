@@ -18,7 +18,10 @@ struct V4l2Format {
   PixelFormat format = PixelFormat::kGrey;
   double fps = 20.0;
   int64_t exposure_ns = 0;  // 0: leave the device's exposure as it is
-  int gain = -1;            // -1: leave it
+  // false: the exposure is set on the camera by other means (its vendor tool, trigger-width
+  // mode); exposure_ns is then only what the frame times assume.
+  bool exposure_control = true;
+  int gain = -1;  // -1: leave it
 };
 
 // A dequeued buffer: valid until requeue(index).

@@ -15,6 +15,16 @@ TEST(CameraOptions, ShippedConfigLoads) {
   EXPECT_EQ(o.mode, TriggerMode::kFreeRunning);
   EXPECT_EQ(o.max_stereo_skew_ns, 2'000'000);
   EXPECT_EQ(o.trigger.max_latency_ns, 40'000'000);
+  EXPECT_TRUE(o.format.exposure_control);
+}
+
+TEST(CameraOptions, ExposureSetByOtherMeans) {
+  test::TempYaml yaml(
+      "camera:\n  mode: external-trigger\n  exposure_s: 0.004\n  exposure_control: false\n");
+  const CameraOptions o = load_camera_options(yaml.path());
+  EXPECT_EQ(o.mode, TriggerMode::kExternal);
+  EXPECT_EQ(o.format.exposure_ns, 4'000'000);
+  EXPECT_FALSE(o.format.exposure_control);
 }
 
 TEST(CameraOptions, BadValuesAreClearErrors) {

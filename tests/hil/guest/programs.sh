@@ -92,7 +92,8 @@ lost=$(recorded /tmp/log TRIGGER lost_upstream)
 echo "hs-trigger: exit $trigger_status, $pulses pulses, $edges timed by their edge; TRIGGER recorded $recorded, lost $lost"
 check [ "$trigger_status" = 0 ]
 check [ "${pulses:-0}" -ge 60 ]                      # 4 s at 20 Hz, less the 0.1 s start
-check [ "${edges:-0}" -ge $((pulses * 9 / 10)) ]     # the mirror's edges came back
+check [ "${edges:-0}" -ge $((pulses / 2)) ]          # the mirror's edges came back (a shell
+                                                     # loop: it misses some when the host is busy)
 check [ "${recorded:-0}" = "$pulses" ]               # every pulse published and recorded
 check [ "${lost:-1}" = 0 ]                           # seq continuous
 # hs-trigger phase-locked to an IMU's data-ready line (imu-drdy, toggled by a loop here at up to
@@ -126,7 +127,7 @@ stalls=$(field '.* \([0-9]*\) stalls.*')
 recorded=$(recorded /tmp/synclog TRIGGER messages)
 echo "hs-trigger phase-locked: exit $trigger_status, $pulses pulses on $sync_edges data-ready edges, $stalls stalls; TRIGGER recorded $recorded"
 check [ "$trigger_status" = 0 ]
-check [ "${sync_edges:-0}" -ge 100 ]                 # the loop's edges seen (4 s at <= 100 Hz)
+check [ "${sync_edges:-0}" -ge 40 ]                  # the loop's edges seen (4 s at <= 100 Hz; slower under load)
 check [ "${pulses:-0}" = $(((sync_edges + 4) / 5)) ] # every 5th, from the first
 check [ "${stalls:-0}" -ge 1 ]                       # the stalled line reported
 check [ "${recorded:-0}" = "$pulses" ]
@@ -176,8 +177,9 @@ check [ "${lost:-1}" = 0 ]
 # has), then the device held open by another reader (busy, until released), then the device
 # removed while streaming (like an unbind) and created again: hs-imu must come back by itself.
 # hs-camera refusing what the device cannot do, with nothing published: a size vivid will not
-# take (the error names what it gives instead), and external-trigger mode, which needs a manual
-# exposure control vivid lacks.
+# take (the error names what it gives instead), and external-trigger mode with a manual exposure
+# vivid has no control for. Then external-trigger mode with the exposure set "by other means"
+# (exposure_control: false) but no hs-trigger running: every frame counted without its pulse.
 cat > /tmp/camera-size.yaml <<EOT
 camera:
   devices: [/dev/video0]
@@ -186,12 +188,14 @@ camera:
   format: YUYV
   fps: 30
 EOT
-sed -e 's/width: 10000/width: 320/' /tmp/camera-size.yaml > /tmp/camera-trigger.yaml
-cat >> /tmp/camera-trigger.yaml <<EOT
+sed -e 's/width: 10000/width: 320/' /tmp/camera-size.yaml > /tmp/camera-exposure.yaml
+cat >> /tmp/camera-exposure.yaml <<EOT
   mode: external-trigger
   exposure_s: 0.005
 EOT
-for bad in size trigger; do
+cp /tmp/camera-exposure.yaml /tmp/camera-notrigger.yaml
+echo "  exposure_control: false" >> /tmp/camera-notrigger.yaml
+for bad in size exposure notrigger; do
   start_recording /tmp/cam$bad
   out=/tmp/camera-$bad.txt start_program hs-camera --config /tmp/camera-$bad.yaml
   camera=$program
@@ -202,7 +206,9 @@ for bad in size trigger; do
   check [ -z "$(recorded /tmp/cam$bad CAM_STEREO messages)" ]
 done
 check grep -q 'YUYV 10000x180 .*refused' /tmp/camera-size.txt
-check grep -q 'manual exposure' /tmp/camera-trigger.txt
+check grep -q 'cannot set manual exposure' /tmp/camera-exposure.txt
+check grep -q 'frames without a TRIGGER pulse' /tmp/camera-notrigger.txt
+check [ "$(field '.*without trigger \([0-9]*\),.*')" -ge 20 ]  # 2 s at 30 fps, all of them
 
 echo "HIL: iio trigger"
 mkdir /sys/kernel/config/iio/triggers/hrtimer/imu-timer
