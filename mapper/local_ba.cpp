@@ -22,12 +22,14 @@ LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
 
   LocalBaResult result;
   const int num_rounds = options_.reject_outliers ? 2 : 1;
+  // The budget is of this thread's CPU time: a busy host delays the result but does not cut its
+  // iterations, so what the mapper sends does not depend on the other load on the cores.
+  const double cpu_deadline_s = cpu_start_s + 1e-3 * options_.time_budget_ms;
   for (int round = 0; round < num_rounds; ++round) {
-    const double remaining_ms = options_.time_budget_ms - elapsed_ms();
-    if (remaining_ms <= 0.0) break;
+    if (thread_cpu_s() >= cpu_deadline_s) break;
     if (round > 0) problem.drop_outliers(options_.chi2_threshold);
     if (!problem.has_terms()) break;
-    const ceres::Solver::Summary summary = problem.solve(remaining_ms);
+    const ceres::Solver::Summary summary = problem.solve(cpu_deadline_s);
     if (round == 0) result.stats.initial_cost = summary.initial_cost;
     result.stats.final_cost = summary.final_cost;
     result.stats.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;

@@ -25,7 +25,8 @@ struct LocalBaOptions {
   // A round stops when an iteration lowers the cost by less than this share.
   double function_tolerance = 1e-6;
   bool reject_outliers = true;  // second round without the chi2 outliers of the first
-  // Wall-clock limit over both rounds; the solver stops with its current estimate.
+  // Limit on the CPU time of the calling thread over both rounds (num_threads 1); the solver
+  // stops with its current estimate after the iteration that crosses it.
   double time_budget_ms = 100.0;
   double chi2_threshold = 5.991;  // 95% of chi2 with 2 DoF: Huber threshold and outlier test
   double min_depth_m = 0.05;      // nearer to a camera: the observation cannot be used

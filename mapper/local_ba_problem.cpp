@@ -7,6 +7,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "common/core/monotonic_clock.h"
 #include "mapper/bias_walk_cost.h"
 #include "mapper/gravity_prior_cost.h"
 #include "mapper/imu_cost.h"
@@ -199,10 +200,29 @@ void LocalBaProblem::configure_solver() {
   }
 }
 
-ceres::Solver::Summary LocalBaProblem::solve(double time_limit_ms) {
-  solver_options_.max_solver_time_in_seconds = time_limit_ms * 1e-3;
+namespace {
+
+// Ceres' own time limit is wall-clock; this one counts the solving thread's CPU time.
+class CpuDeadline : public ceres::IterationCallback {
+ public:
+  explicit CpuDeadline(double deadline_s) : deadline_s_(deadline_s) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return thread_cpu_s() < deadline_s_ ? ceres::SOLVER_CONTINUE
+                                        : ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+  }
+
+ private:
+  double deadline_s_;
+};
+
+}  // namespace
+
+ceres::Solver::Summary LocalBaProblem::solve(double cpu_deadline_s) {
+  CpuDeadline deadline(cpu_deadline_s);
+  ceres::Solver::Options options = solver_options_;
+  options.callbacks.push_back(&deadline);
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options_, &problem_, &summary);
+  ceres::Solve(options, &problem_, &summary);
   return summary;
 }
 

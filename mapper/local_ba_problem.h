@@ -35,8 +35,9 @@ class LocalBaProblem {
                  const LocalBaIndex& index);
 
   bool has_terms() const { return problem_.NumResidualBlocks() > 0; }
-  // At most options.iterations_per_round iterations and time_limit_ms.
-  ceres::Solver::Summary solve(double time_limit_ms);
+  // At most options.iterations_per_round iterations; none begins once the calling thread's
+  // CPU time (thread_cpu_s) has passed cpu_deadline_s.
+  ceres::Solver::Summary solve(double cpu_deadline_s);
   // Whitened squared reprojection error of observation k at the current estimate; infinity
   // when it cannot be projected.
   double chi2(size_t k) const;

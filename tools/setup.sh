@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git ccache
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
   libeigen3-dev libopencv-dev libceres-dev libv4l-dev libgpiod-dev
   googletest libgtest-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -416,6 +418,35 @@ TEST_F(LocalBaScene, ExhaustedTimeBudgetReturnsTheInitialEstimate) {
   }
   // The flags still come from the chi2 test, here at the (poor) initial estimate.
   EXPECT_GT(result.stats.num_outliers, scene.input.observations.size() / 4);
+}
+
+// The budget is the solving thread's CPU time: other threads hogging the cores delay the result
+// but do not cut it (a wall-clock budget would stop it at about half the iterations here),
+// while a budget below the solve's CPU time does stop it early.
+TEST_F(LocalBaScene, TimeBudgetCountsTheSolversCpuTimeNotTheWait) {
+  const test::BaScene scene = make({}, 1);
+  options_.time_budget_ms = 1e9;
+  const LocalBaResult full = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+  ASSERT_GT(full.stats.iterations, 4);
+
+  options_.time_budget_ms = 1.5 * full.stats.cpu_ms;
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> hogs;
+  for (unsigned k = 0; k < 2 * std::max(1u, std::thread::hardware_concurrency()); ++k)
+    hogs.emplace_back([&] {
+      while (!stop) {
+      }
+    });
+  const LocalBaResult contended = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+  stop = true;
+  for (std::thread& t : hogs) t.join();
+  EXPECT_GT(contended.stats.time_ms, contended.stats.cpu_ms * 1.2) << "the hogs did not contend";
+  EXPECT_EQ(contended.stats.iterations, full.stats.iterations);
+  EXPECT_EQ(contended.stats.final_cost, full.stats.final_cost);
+
+  options_.time_budget_ms = 0.3 * full.stats.cpu_ms;
+  const LocalBaResult cut = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
+  EXPECT_LT(cut.stats.iterations, full.stats.iterations);
 }
 
 TEST_F(LocalBaScene, MalformedInputIsRejected) {

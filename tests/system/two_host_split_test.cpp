@@ -129,8 +129,9 @@ class TwoHostSplit : public ::testing::Test {
 
   // Replays the dataset on A with the tracker and a POSE recorder there, the mapper on
   // `mapper_host`; with `split`, loggers on both hosts; with `cut`, the link cut in the middle.
-  // Returns the ATE.
-  double run(const std::string& name, const std::string& mapper_host, bool split, bool cut) {
+  // `speed` is the replay's (lcm-logplayer -s). Returns the ATE.
+  double run(const std::string& name, const std::string& mapper_host, bool split, bool cut,
+             const std::string& speed) {
     const std::string out = d() + "/" + name;
     fs::create_directories(out);
     const std::string A = hosts_.a(), B = hosts_.b();
@@ -157,7 +158,8 @@ class TwoHostSplit : public ::testing::Test {
     EXPECT_TRUE(says(*tracker, "listening")) << tracker->output();
     EXPECT_TRUE(says(*mapper, "listening")) << mapper->output();
     EXPECT_TRUE(says(*recorder, "recording")) << recorder->output();
-    auto player = start(A, {"lcm-logplayer", "-l", kUrl, d() + "/sim.lcmlog"}, name + "_player");
+    auto player =
+        start(A, {"lcm-logplayer", "-s", speed, "-l", kUrl, d() + "/sim.lcmlog"}, name + "_player");
     if (cut) {
       sleep_s(kCutAfterS);
       cut_us_ = wall_us();
@@ -166,7 +168,8 @@ class TwoHostSplit : public ::testing::Test {
       EXPECT_TRUE(hosts_.restore());
       restore_us_ = wall_us();
     }
-    EXPECT_TRUE(wait_for([&] { return !player->running(); }, 3 * kDurationS));
+    const int replay_s = static_cast<int>(kDurationS / std::stod(speed));
+    EXPECT_TRUE(wait_for([&] { return !player->running(); }, 3 * replay_s));
     EXPECT_EQ(player->wait(), 0) << player->output();
     EXPECT_EQ(recorder->wait(), 0) << recorder->output();  // after 5 s without POSE
     stop(*tracker);
@@ -225,8 +228,11 @@ void TwoHostSplit::expect_b_recorded_what_a_sent(const std::string& run_dir,
 }
 
 TEST_F(TwoHostSplit, MapperAndLoggerOnASecondHost) {
-  const double single = run("single", hosts_.a(), false, false);
-  const double split = run("split", hosts_.b(), true, false);
+  // At half speed: the mapper's corrections come within a frame on a busy host too, so the
+  // comparison is of the split, not of how late a slowed mapper's corrections arrive (the
+  // corrections move the pose by about half the ATE; see the mapper process test).
+  const double single = run("single", hosts_.a(), false, false, "0.5");
+  const double split = run("split", hosts_.b(), true, false, "0.5");
   std::printf("ATE single host %.4f m, split over the link %.4f m (%.2fx)\n", single, split,
               split / single);
   EXPECT_LE(split, 1.1 * single) << "the issue allows 10%";
@@ -245,7 +251,7 @@ TEST_F(TwoHostSplit, MapperAndLoggerOnASecondHost) {
 }
 
 TEST_F(TwoHostSplit, TheLinkCutFor3sLeavesTheTrackerAloneAndTheMapperResynchronises) {
-  const double ate = run("cut", hosts_.b(), true, true);
+  const double ate = run("cut", hosts_.b(), true, true, "1");
   const double cut_s = 1e-6 * static_cast<double>(restore_us_ - cut_us_);
   std::printf("ATE with the link cut for %.2f s: %.4f m\n", cut_s, ate);
   const std::vector<LogEvent> a = read_logs(d() + "/cut/logs_a");
