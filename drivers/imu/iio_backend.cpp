@@ -1,5 +1,8 @@
 #include "drivers/imu/iio_backend.h"
 
+#include <poll.h>
+
+#include <cerrno>
 #include <cmath>
 
 #include "common/core/monotonic_clock.h"
@@ -8,9 +11,9 @@ namespace hs {
 namespace {
 
 // The oldest sample a full kernel buffer can hold, with a margin; 10 s when the rate is unknown.
-int64_t buffer_span_ns(const IioOptions& o) {
-  if (o.sampling_frequency_hz <= 0) return 10'000'000'000;
-  return static_cast<int64_t>(2e9 * o.buffer_length / o.sampling_frequency_hz) + 1'000'000'000;
+int64_t buffer_span_ns(int buffer_length, double rate_hz) {
+  if (rate_hz <= 0) return 10'000'000'000;
+  return static_cast<int64_t>(2e9 * buffer_length / rate_hz) + 1'000'000'000;
 }
 
 }  // namespace
@@ -45,38 +48,92 @@ void IioTimestampCheck::filter(std::vector<ImuSample>* samples, int64_t now_ns) 
 }
 
 IioBackend::IioBackend(const IioOptions& options)
-    : options_(options), check_(buffer_span_ns(options), options.sampling_frequency_hz) {}
+    : options_(options),
+      check_(buffer_span_ns(options.buffer_length, options.sampling_frequency_hz),
+             options.sampling_frequency_hz),
+      gyro_check_(buffer_span_ns(options.buffer_length, options.gyro_sampling_frequency_hz),
+                  options.gyro_sampling_frequency_hz),
+      // Gyroscope samples wait for the accelerometer sample after them at most a buffer's span.
+      pairer_(static_cast<int64_t>(options.pair_max_gap_s * 1e9),
+              buffer_span_ns(options.buffer_length, options.gyro_sampling_frequency_hz) / 2) {}
 
 void IioBackend::open() {
-  device_ = std::make_unique<IioDevice>(options_);
+  const bool split = !options_.gyro_device.empty();
+  device_ = std::make_unique<IioDevice>(options_, split ? IioPart::kAccel : IioPart::kBoth);
+  if (split) gyro_device_ = std::make_unique<IioDevice>(options_, IioPart::kGyro);
   check_.restart();
+  gyro_check_.restart();
+  pairer_.restart();
+}
+
+void IioBackend::close() {
+  gyro_device_.reset();
+  device_.reset();
+}
+
+IioDevice::ReadStatus IioBackend::read_checked(IioDevice& device, IioTimestampCheck& check,
+                                               int timeout_ms, std::vector<ImuSample>* samples) {
+  const IioDevice::ReadStatus status = device.read(timeout_ms, samples);
+  scans_ += static_cast<int64_t>(samples->size());
+  const IioCheckCounters before = check.counters();
+  check.filter(samples, monotonic_ns());
+  if (check.counters().backwards != before.backwards ||
+      check.counters().off_clock != before.off_clock)
+    last_error_ = device.name() + ": " + check.last_error();
+  return status;
 }
 
 ImuBackend::ReadStatus IioBackend::read(int timeout_ms, std::vector<ImuSample>* samples) {
-  std::vector<ImuSample> read;
-  const IioDevice::ReadStatus status = device_->read(timeout_ms, &read);
-  if (status == IioDevice::ReadStatus::kTimeout) return ReadStatus::kTimeout;
-  if (status == IioDevice::ReadStatus::kLost) return ReadStatus::kLost;
-  scans_ += static_cast<int64_t>(read.size());
-  check_.filter(&read, monotonic_ns());
-  samples->insert(samples->end(), read.begin(), read.end());
-  return ReadStatus::kData;
+  using Status = IioDevice::ReadStatus;
+  if (!gyro_device_) {
+    std::vector<ImuSample> read;
+    const Status status = read_checked(*device_, check_, timeout_ms, &read);
+    samples->insert(samples->end(), read.begin(), read.end());
+    return status == Status::kData   ? ReadStatus::kData
+           : status == Status::kLost ? ReadStatus::kLost
+                                     : ReadStatus::kTimeout;
+  }
+  pollfd fds[2] = {{device_->fd(), POLLIN, 0}, {gyro_device_->fd(), POLLIN, 0}};
+  if (::poll(fds, 2, timeout_ms) < 0 && errno != EINTR) return ReadStatus::kLost;
+  std::vector<ImuSample> accel, gyro;
+  const Status a = read_checked(*device_, check_, 0, &accel);
+  const Status g = read_checked(*gyro_device_, gyro_check_, 0, &gyro);
+  if (a == Status::kLost || g == Status::kLost) return ReadStatus::kLost;
+  const int64_t unpaired = pairer_.counters().unpaired_gyro;
+  pairer_.add_accel(accel);
+  pairer_.add_gyro(gyro);
+  pairer_.take(samples);
+  if (pairer_.counters().unpaired_gyro != unpaired) last_error_ = pairer_.last_error();
+  // Data even when nothing paired yet: a timeout would flush a part-filled batch.
+  return a == Status::kData || g == Status::kData ? ReadStatus::kData : ReadStatus::kTimeout;
 }
 
 std::string IioBackend::device() const {
+  if (!options_.gyro_device.empty())
+    return (device_ ? device_->name() : "IIO device " + options_.device) + " + " +
+           (gyro_device_ ? gyro_device_->name() : "IIO device " + options_.gyro_device);
   return device_ ? device_->name() : "IIO device " + options_.device;
 }
 
 int64_t IioBackend::bad_input() const {
-  return check_.counters().backwards + check_.counters().off_clock;
+  return check_.counters().backwards + check_.counters().off_clock +
+         gyro_check_.counters().backwards + gyro_check_.counters().off_clock +
+         pairer_.counters().unpaired_gyro;
 }
 
 ImuBackend::Counters IioBackend::counters() const {
   const IioCheckCounters& c = check_.counters();
-  return {{"scans_read", scans_},
-          {"backwards_timestamps", c.backwards},
-          {"off_clock_timestamps", c.off_clock},
-          {"lost_samples", c.lost_samples}};
+  const IioCheckCounters& g = gyro_check_.counters();
+  Counters out = {{"scans_read", scans_},
+                  {"backwards_timestamps", c.backwards + g.backwards},
+                  {"off_clock_timestamps", c.off_clock + g.off_clock},
+                  {"lost_samples", c.lost_samples + g.lost_samples}};
+  if (!options_.gyro_device.empty()) {
+    out.emplace_back("paired_samples", pairer_.counters().paired);
+    out.emplace_back("unpaired_gyro_samples", pairer_.counters().unpaired_gyro);
+    out.emplace_back("leading_gyro_samples", pairer_.counters().leading_gyro);
+  }
+  return out;
 }
 
 }  // namespace hs

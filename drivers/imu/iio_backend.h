@@ -6,6 +6,7 @@
 
 #include "drivers/imu/iio_device.h"
 #include "drivers/imu/imu_backend.h"
+#include "drivers/imu/imu_pairing.h"
 
 namespace hs {
 
@@ -34,22 +35,28 @@ class IioTimestampCheck {
   std::string last_error_;
 };
 
+// One IIO device, or an accelerometer and a gyroscope device paired (options.gyro_device).
 class IioBackend : public ImuBackend {
  public:
   explicit IioBackend(const IioOptions& options);
   void open() override;
-  void close() override { device_.reset(); }
+  void close() override;
   ReadStatus read(int timeout_ms, std::vector<ImuSample>* samples) override;
   std::string device() const override;
   int64_t bad_input() const override;
-  const std::string& last_error() const override { return check_.last_error(); }
+  const std::string& last_error() const override { return last_error_; }
   Counters counters() const override;
 
  private:
+  IioDevice::ReadStatus read_checked(IioDevice& device, IioTimestampCheck& check, int timeout_ms,
+                                     std::vector<ImuSample>* samples);
+
   IioOptions options_;
-  std::unique_ptr<IioDevice> device_;
-  IioTimestampCheck check_;
+  std::unique_ptr<IioDevice> device_, gyro_device_;
+  IioTimestampCheck check_, gyro_check_;
+  ImuPairer pairer_;
   int64_t scans_ = 0;
+  std::string last_error_;
 };
 
 }  // namespace hs

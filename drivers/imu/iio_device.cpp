@@ -53,15 +53,15 @@ std::vector<std::string> list_dir(const std::string& dir) {
   return names;
 }
 
-std::string find_device(const IioOptions& o) {
+std::string find_device(const std::string& root, const std::string& device) {
   std::string names;
-  for (const std::string& entry : list_dir(o.sysfs_root)) {
+  for (const std::string& entry : list_dir(root)) {
     if (entry.rfind("iio:device", 0) != 0) continue;
-    const std::string name = read_attr(o.sysfs_root + "/" + entry + "/name").value_or("");
-    if (entry == o.device || name == o.device) return entry;
+    const std::string name = read_attr(root + "/" + entry + "/name").value_or("");
+    if (entry == device || name == device) return entry;
     names += (names.empty() ? "" : ", ") + entry + " (" + name + ")";
   }
-  throw std::runtime_error("no IIO device '" + o.device + "' in " + o.sysfs_root +
+  throw std::runtime_error("no IIO device '" + device + "' in " + root +
                            (names.empty() ? " (none there)" : "; there are: " + names));
 }
 
@@ -91,8 +91,12 @@ std::string find_trigger_dir(const std::string& root, const std::string& trigger
 
 }  // namespace
 
-IioDevice::IioDevice(const IioOptions& o) {
-  const std::string entry = find_device(o);
+IioDevice::IioDevice(const IioOptions& o, IioPart part)
+    : has_accel_(part != IioPart::kGyro), has_gyro_(part != IioPart::kAccel) {
+  const bool gyro_device = part == IioPart::kGyro;
+  const std::string& trigger = gyro_device ? o.gyro_trigger : o.trigger;
+  const double rate_hz = gyro_device ? o.gyro_sampling_frequency_hz : o.sampling_frequency_hz;
+  const std::string entry = find_device(o.sysfs_root, gyro_device ? o.gyro_device : o.device);
   dir_ = o.sysfs_root + "/" + entry;
   name_ = entry + " (" + read_attr(dir_ + "/name").value_or("?") + ")";
   const std::string scan_dir = dir_ + "/scan_elements";
@@ -105,9 +109,10 @@ IioDevice::IioDevice(const IioOptions& o) {
 
   // Each configured channel once, then the kernel's timestamp.
   std::vector<std::string> wanted;
-  for (const auto* axes : {&o.accel, &o.gyro})
-    for (const std::string& c : *axes)
-      if (std::find(wanted.begin(), wanted.end(), c) == wanted.end()) wanted.push_back(c);
+  for (const auto* axes : {has_accel_ ? &o.accel : nullptr, has_gyro_ ? &o.gyro : nullptr})
+    for (size_t i = 0; axes && i < axes->size(); ++i)
+      if (std::find(wanted.begin(), wanted.end(), (*axes)[i]) == wanted.end())
+        wanted.push_back((*axes)[i]);
   wanted.push_back("in_timestamp");
   std::string all;
   for (const std::string& a : available) all += (all.empty() ? "" : ", ") + a;
@@ -128,15 +133,15 @@ IioDevice::IioDevice(const IioOptions& o) {
     write_attr(dir_ + "/buffer/enable", "0", "the buffer");
     if (exists(dir_ + "/current_timestamp_clock"))
       write_attr(dir_ + "/current_timestamp_clock", "monotonic", "the timestamp clock");
-    if (!o.trigger.empty()) {
-      write_attr(dir_ + "/trigger/current_trigger", o.trigger, "the trigger");
-      if (read_attr(dir_ + "/trigger/current_trigger") != o.trigger)
-        throw std::runtime_error(name_ + " did not take trigger '" + o.trigger + "'");
+    if (!trigger.empty()) {
+      write_attr(dir_ + "/trigger/current_trigger", trigger, "the trigger");
+      if (read_attr(dir_ + "/trigger/current_trigger") != trigger)
+        throw std::runtime_error(name_ + " did not take trigger '" + trigger + "'");
     }
-    if (o.sampling_frequency_hz > 0) {
+    if (rate_hz > 0) {
       // A software trigger (hrtimer, sysfs) sets the rate itself; else the device does.
       const std::string trigger_dir =
-          o.trigger.empty() ? "" : find_trigger_dir(o.sysfs_root, o.trigger);
+          trigger.empty() ? "" : find_trigger_dir(o.sysfs_root, trigger);
       std::string target;
       for (const std::string& t : {trigger_dir.empty() ? "" : trigger_dir + "/sampling_frequency",
                                    dir_ + "/sampling_frequency", dir_ + "/in_sampling_frequency"})
@@ -144,7 +149,7 @@ IioDevice::IioDevice(const IioOptions& o) {
       if (target.empty())
         throw std::runtime_error(name_ + " and its trigger have no sampling_frequency to set");
       std::ostringstream hz;
-      hz << o.sampling_frequency_hz;
+      hz << rate_hz;
       write_attr(target, hz.str(), "the sampling frequency");
     }
     for (const std::string& a : available)
@@ -177,11 +182,13 @@ IioDevice::IioDevice(const IioOptions& o) {
     if (ts.storagebits != 64 || !ts.is_signed)
       throw InputError(name_ + ": in_timestamp is not a signed 64-bit value");
     timestamp_ = position("in_timestamp");
+    const auto axis = [&](const std::string& c) {
+      return Axis{position(c), channel_attr(dir_, c, "scale", 1),
+                  channel_attr(dir_, c, "offset", 0)};
+    };
     for (int i = 0; i < 3; ++i) {
-      accel_[i] = {position(o.accel[i]), channel_attr(dir_, o.accel[i], "scale", 1),
-                   channel_attr(dir_, o.accel[i], "offset", 0)};
-      gyro_[i] = {position(o.gyro[i]), channel_attr(dir_, o.gyro[i], "scale", 1),
-                  channel_attr(dir_, o.gyro[i], "offset", 0)};
+      if (has_accel_) accel_[i] = axis(o.accel[i]);
+      if (has_gyro_) gyro_[i] = axis(o.gyro[i]);
     }
     if (exists(dir_ + "/buffer/length"))
       write_attr(dir_ + "/buffer/length", std::to_string(o.buffer_length), "the buffer length");
@@ -189,7 +196,7 @@ IioDevice::IioDevice(const IioOptions& o) {
       write_attr(dir_ + "/buffer/enable", "1", "the buffer");
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(std::string(e.what()) +
-                               (o.trigger.empty() ? " (no trigger given: set iio.trigger?)" : ""));
+                               (trigger.empty() ? " (no trigger given: set its trigger?)" : ""));
     }
   } catch (...) {
     ::close(fd_);
@@ -220,13 +227,13 @@ IioDevice::ReadStatus IioDevice::read(int timeout_ms, std::vector<ImuSample>* sa
     const uint8_t* scan = carry_.data() + used;
     ImuSample s;
     s.t_ns = decode_iio_value(scan, channels_[timestamp_]);
+    const auto value = [&](const Axis& a) {
+      return (static_cast<double>(decode_iio_value(scan, channels_[a.channel])) + a.offset) *
+             a.scale;
+    };
     for (int i = 0; i < 3; ++i) {
-      s.accel[i] = (static_cast<double>(decode_iio_value(scan, channels_[accel_[i].channel])) +
-                    accel_[i].offset) *
-                   accel_[i].scale;
-      s.gyro[i] = (static_cast<double>(decode_iio_value(scan, channels_[gyro_[i].channel])) +
-                   gyro_[i].offset) *
-                  gyro_[i].scale;
+      if (has_accel_) s.accel[i] = value(accel_[i]);
+      if (has_gyro_) s.gyro[i] = value(gyro_[i]);
     }
     samples->push_back(s);
   }

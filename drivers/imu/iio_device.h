@@ -1,10 +1,11 @@
 #pragma once
 // An IMU behind a Linux IIO driver in buffered mode (SPI/I2C IMUs on embedded boards: ADIS16448
 // like EuRoC's, BMI160, MPU-6050...): one device with accelerometer, gyroscope and the kernel's
-// timestamp channel. Opening finds the device by name, checks that the configured channels are
-// scan elements, enables exactly those, puts the timestamps on CLOCK_MONOTONIC, sets the trigger,
-// rate and buffer length and starts the buffer; reads give samples in SI units ((raw + offset) *
-// scale: m/s^2 and rad/s per the IIO ABI).
+// timestamp channel, or one of the two devices of an IMU whose accelerometer and gyroscope have
+// drivers of their own (BMI088). Opening finds the device by name, checks that the configured
+// channels are scan elements, enables exactly those, puts the timestamps on CLOCK_MONOTONIC, sets
+// the trigger, rate and buffer length and starts the buffer; reads give samples in SI units ((raw +
+// offset) * scale: m/s^2 and rad/s per the IIO ABI).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -22,22 +23,33 @@ struct IioOptions {
   int buffer_length = 256;           // scans the kernel buffers
   std::array<std::string, 3> accel = {"in_accel_x", "in_accel_y", "in_accel_z"};
   std::array<std::string, 3> gyro = {"in_anglvel_x", "in_anglvel_y", "in_anglvel_z"};
+  // A gyroscope that is a device of its own (empty: `device` has both); its trigger and rate.
+  std::string gyro_device;
+  std::string gyro_trigger;
+  double gyro_sampling_frequency_hz = 0;
+  double pair_max_gap_s = 0.02;  // longest accelerometer interval interpolated across
   std::string sysfs_root = "/sys/bus/iio/devices";  // another root only in tests
   std::string dev_root = "/dev";
 };
+
+// Which of the options' vectors a device delivers: kAccel is `device` when `gyro_device` is set,
+// kGyro is `gyro_device` (with gyro_trigger and gyro_sampling_frequency_hz).
+enum class IioPart { kBoth, kAccel, kGyro };
 
 class IioDevice {
  public:
   // Throws InputError when the device's scan elements do not match the options (naming what it
   // has), std::runtime_error when it is missing, busy or refuses a setting.
-  explicit IioDevice(const IioOptions& options);
+  explicit IioDevice(const IioOptions& options, IioPart part = IioPart::kBoth);
   ~IioDevice();  // stops the buffer
   IioDevice(const IioDevice&) = delete;
   IioDevice& operator=(const IioDevice&) = delete;
 
   enum class ReadStatus { kData, kTimeout, kLost };
-  // Whole scans read within `timeout_ms`, appended to `samples` with the kernel's timestamps.
+  // Whole scans read within `timeout_ms`, appended to `samples` with the kernel's timestamps
+  // (the vectors the device does not deliver are zero).
   ReadStatus read(int timeout_ms, std::vector<ImuSample>* samples);
+  int fd() const { return fd_; }  // for polling several devices
 
   const std::string& name() const { return name_; }  // "iio:device0 (adis16448)"
   size_t scan_bytes() const { return scan_bytes_; }
@@ -51,6 +63,7 @@ class IioDevice {
   std::string dir_, name_;
   int fd_ = -1;
   std::vector<IioScanChannel> channels_;
+  bool has_accel_ = false, has_gyro_ = false;
   std::array<Axis, 3> accel_{}, gyro_{};
   size_t timestamp_ = 0;
   size_t scan_bytes_ = 0;

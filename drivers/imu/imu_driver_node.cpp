@@ -2,6 +2,8 @@
 
 #include <poll.h>
 
+#include <cstdio>
+
 #include "common/core/monotonic_clock.h"
 #include "common/core/stop_signal.h"
 #include "common/lcm/convert.h"
@@ -65,6 +67,7 @@ void ImuDriverNode::run() {
         ++stats_.connects;
         connected_ = true;
         problem_.clear();
+        std::fprintf(stderr, "hs-imu: %s opened\n", backend_->device().c_str());
       } catch (const std::exception& e) {
         ++stats_.open_failures;
         problem_.set(std::string(e.what()) + "; retrying", now);

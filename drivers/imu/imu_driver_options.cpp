@@ -45,6 +45,15 @@ ImuDriverOptions load_imu_driver_options(const std::string& path) {
       if (names.size() != 3) s.fail(key, "must list 3 scan elements (x, y, z)");
       for (int i = 0; i < 3; ++i) (*axes)[i] = names[i];
     }
+    s.read("gyro_device", iio.gyro_device);
+    s.read("gyro_trigger", iio.gyro_trigger);
+    s.read("gyro_sampling_frequency_hz", iio.gyro_sampling_frequency_hz);
+    if (iio.gyro_sampling_frequency_hz < 0) s.fail("gyro_sampling_frequency_hz", "must be >= 0");
+    s.read("pair_max_gap_s", iio.pair_max_gap_s);
+    if (!(iio.pair_max_gap_s > 0 && iio.pair_max_gap_s <= 1))
+      s.fail("pair_max_gap_s", "must be in (0, 1]");
+    if (iio.gyro_device == iio.device)
+      s.fail("gyro_device", "is the accelerometer's device: leave it out when one has both");
   });
   top.section("clock", [&](ConfigSection& s) { s.read_period("window_s", o.clock.window_ns); });
   read_process_tail(top, o.heartbeat_period_ns, o.channels);

@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "common/core/error.h"
+#include "common/core/monotonic_clock.h"
 #include "drivers/imu/iio_backend.h"
 #include "tests/common/temp_dir.h"
 
@@ -30,6 +31,21 @@ std::string get(const std::string& path) {
   return s;
 }
 
+// Scan elements `channels` (index 0, 1, ...) of one type, each enabled or not, then the kernel's
+// timestamp (disabled) after a gap in the indices.
+void put_scan_elements(const std::string& dev, const std::vector<std::string>& channels,
+                       const std::string& type, const std::string& enabled) {
+  int index = 0;
+  for (const std::string& c : channels) {
+    put(dev + "/scan_elements/" + c + "_en", enabled);
+    put(dev + "/scan_elements/" + c + "_index", std::to_string(index++));
+    put(dev + "/scan_elements/" + c + "_type", type);
+  }
+  put(dev + "/scan_elements/in_timestamp_en", "0");
+  put(dev + "/scan_elements/in_timestamp_index", std::to_string(index + 1));
+  put(dev + "/scan_elements/in_timestamp_type", "le:s64/64>>0");
+}
+
 // An ADIS16448-like device: six 16-bit channels, a temperature one, the timestamp.
 class FakeIio : public ::testing::Test {
  protected:
@@ -46,16 +62,10 @@ class FakeIio : public ::testing::Test {
     put(dev + "/in_accel_scale", "0.01");
     put(dev + "/in_anglvel_scale", "0.001");
     put(dev + "/in_anglvel_z_offset", "-2");
-    int index = 0;
-    for (const char* c : {"in_anglvel_x", "in_anglvel_y", "in_anglvel_z", "in_accel_x",
-                          "in_accel_y", "in_accel_z", "in_temp"}) {
-      put(dev + "/scan_elements/" + c + "_en", "1");
-      put(dev + "/scan_elements/" + c + "_index", std::to_string(index++));
-      put(dev + "/scan_elements/" + c + "_type", "be:s16/16>>0");
-    }
-    put(dev + "/scan_elements/in_timestamp_en", "0");
-    put(dev + "/scan_elements/in_timestamp_index", "8");
-    put(dev + "/scan_elements/in_timestamp_type", "le:s64/64>>0");
+    put_scan_elements(dev,
+                      {"in_anglvel_x", "in_anglvel_y", "in_anglvel_z", "in_accel_x", "in_accel_y",
+                       "in_accel_z", "in_temp"},
+                      "be:s16/16>>0", "1");
     put(root + "/trigger0/name", "adis16448-dev1");  // its data-ready trigger: no rate of its own
     ASSERT_EQ(::mkfifo((dir.path() + "/iio:device1").c_str(), 0600), 0);
     options.sysfs_root = root;
@@ -196,6 +206,96 @@ TEST(IioTimestampCheck, DropsBackwardsAndOffClockSamplesAndCountsGaps) {
   again[0].t_ns = now - 40'000'000;
   check.filter(&again, now);
   EXPECT_EQ(again.size(), 1u);
+}
+
+// A BMI088: accelerometer and gyroscope as two IIO devices (bmi088_accel, bmg160), each with
+// x y z (le:s16) and its timestamp, at 100 and 200 Hz.
+TEST(IioBackendSplit, PairsAnAccelerometerDeviceWithAGyroscopeDevice) {
+  test::TempDir dir;
+  const std::string root = dir.path() + "/sys";
+  const auto device = [&](const std::string& node, const std::string& name, const char* type) {
+    const std::string d = root + "/" + node;
+    put(d + "/name", name);
+    put(d + "/buffer/enable", "0");
+    put(d + "/sampling_frequency", "0");
+    put(d + "/trigger/current_trigger", "");
+    put(d + "/in_" + std::string(type) + "_scale", "0.01");
+    const std::string t = "in_" + std::string(type);
+    put_scan_elements(d, {t + "_x", t + "_y", t + "_z"}, "le:s16/16>>0", "0");
+    EXPECT_EQ(::mkfifo((dir.path() + "/" + node).c_str(), 0600), 0);
+  };
+  device("iio:device0", "bmi088_accel", "accel");
+  device("iio:device1", "bmg160", "anglvel");
+  IioOptions options;
+  options.sysfs_root = root;
+  options.dev_root = dir.path();
+  options.device = "bmi088_accel";
+  options.sampling_frequency_hz = 100;
+  options.gyro_device = "bmg160";
+  options.gyro_sampling_frequency_hz = 200;
+
+  IioBackend backend(options);
+  backend.open();
+  EXPECT_EQ(backend.device(), "iio:device0 (bmi088_accel) + iio:device1 (bmg160)");
+  EXPECT_EQ(get(root + "/iio:device0/sampling_frequency"), "100");
+  EXPECT_EQ(get(root + "/iio:device1/sampling_frequency"), "200");
+  EXPECT_EQ(get(root + "/iio:device0/scan_elements/in_accel_z_en"), "1");
+  EXPECT_EQ(get(root + "/iio:device1/scan_elements/in_anglvel_z_en"), "1");
+
+  // 16-byte scans: x y z, pad, timestamp. The gyroscope starts 5 ms before the accelerometer.
+  const auto scan = [](int16_t x, int64_t t_ns) {
+    std::vector<uint8_t> s(16, 0);
+    s[0] = static_cast<uint8_t>(x & 0xFF);
+    s[1] = static_cast<uint8_t>(static_cast<uint16_t>(x) >> 8);
+    for (int i = 0; i < 8; ++i)
+      s[8 + i] = static_cast<uint8_t>(static_cast<uint64_t>(t_ns) >> (8 * i));
+    return s;
+  };
+  const int64_t t0 = monotonic_ns() - 500'000'000;
+  std::vector<uint8_t> accel_bytes, gyro_bytes;
+  for (int i = 0; i < 4; ++i) {
+    const auto s = scan(static_cast<int16_t>(100 * i), t0 + 10'000'000 * i);
+    accel_bytes.insert(accel_bytes.end(), s.begin(), s.end());
+  }
+  for (int i = 0; i < 8; ++i) {
+    const auto s = scan(static_cast<int16_t>(i), t0 - 5'000'000 + 5'000'000 * i);
+    gyro_bytes.insert(gyro_bytes.end(), s.begin(), s.end());
+  }
+  const int accel_fd = ::open((dir.path() + "/iio:device0").c_str(), O_WRONLY);
+  const int gyro_fd = ::open((dir.path() + "/iio:device1").c_str(), O_WRONLY);
+  ASSERT_GE(accel_fd, 0);
+  ASSERT_GE(gyro_fd, 0);
+  ASSERT_EQ(::write(gyro_fd, gyro_bytes.data(), gyro_bytes.size()),
+            static_cast<ssize_t>(gyro_bytes.size()));
+  std::vector<ImuSample> samples;
+  // Read, but nothing paired before the accelerometer's first sample.
+  EXPECT_EQ(backend.read(100, &samples), ImuBackend::ReadStatus::kData);
+  EXPECT_TRUE(samples.empty());
+  ASSERT_EQ(::write(accel_fd, accel_bytes.data(), accel_bytes.size()),
+            static_cast<ssize_t>(accel_bytes.size()));
+  EXPECT_EQ(backend.read(1000, &samples), ImuBackend::ReadStatus::kData);
+  // Gyroscope times t0 ... t0 + 30 ms (the first, before the accelerometer, dropped as leading).
+  ASSERT_EQ(samples.size(), 7u);
+  EXPECT_EQ(samples[0].t_ns, t0);
+  EXPECT_EQ(samples[1].t_ns, t0 + 5'000'000);
+  EXPECT_DOUBLE_EQ(samples[1].gyro.x(), 0.02);  // raw 2 * 0.01
+  EXPECT_DOUBLE_EQ(samples[1].accel.x(), 0.5);  // halfway from 0 to 1 m/s^2
+  EXPECT_DOUBLE_EQ(samples[6].accel.x(), 3.0);
+  const ImuBackend::Counters c = backend.counters();
+  const auto counter = [&](const std::string& name) {
+    for (const auto& [n, v] : c)
+      if (n == name) return v;
+    return int64_t{-1};
+  };
+  EXPECT_EQ(counter("paired_samples"), 7);
+  EXPECT_EQ(counter("leading_gyro_samples"), 1);
+  EXPECT_EQ(counter("unpaired_gyro_samples"), 0);
+  EXPECT_EQ(backend.bad_input(), 0);
+  ::close(gyro_fd);  // one of the two gone: the IMU is lost
+  EXPECT_EQ(backend.read(1000, &samples), ImuBackend::ReadStatus::kLost);
+  ::close(accel_fd);
+  backend.close();
+  EXPECT_EQ(get(root + "/iio:device1/buffer/enable"), "0");
 }
 
 }  // namespace

@@ -29,6 +29,11 @@ TEST(ImuDriverOptions, BadValuesAreClearErrors) {
                            {baud.path() + ":2", "unsupported baud rate 1000"});
   test::TempYaml batch("imu:\n  batch_size: 0\n");
   test::expect_input_error([&] { load_imu_driver_options(batch.path()); }, {"1 ... 100"});
+  test::TempYaml same("iio:\n  device: bmi088\n  gyro_device: bmi088\n");
+  test::expect_input_error([&] { load_imu_driver_options(same.path()); },
+                           {"gyro_device", "leave it out"});
+  test::TempYaml gap("iio:\n  pair_max_gap_s: 0\n");
+  test::expect_input_error([&] { load_imu_driver_options(gap.path()); }, {"(0, 1]"});
 }
 
 TEST(ImuDriverOptions, IioSection) {
@@ -42,6 +47,16 @@ TEST(ImuDriverOptions, IioSection) {
   EXPECT_EQ(o.iio.sampling_frequency_hz, 400);
   EXPECT_EQ(o.iio.accel[0], "in_accel_y");
   EXPECT_EQ(o.iio.gyro[2], "in_anglvel_z");
+  EXPECT_TRUE(o.iio.gyro_device.empty());  // one device has both
+
+  test::TempYaml split(
+      "iio:\n  device: bmi088_accel\n  gyro_device: bmg160\n  gyro_trigger: bmg160-dev1\n"
+      "  gyro_sampling_frequency_hz: 2000\n  pair_max_gap_s: 0.005\n");
+  const ImuDriverOptions b = load_imu_driver_options(split.path());
+  EXPECT_EQ(b.iio.gyro_device, "bmg160");
+  EXPECT_EQ(b.iio.gyro_trigger, "bmg160-dev1");
+  EXPECT_EQ(b.iio.gyro_sampling_frequency_hz, 2000);
+  EXPECT_EQ(b.iio.pair_max_gap_s, 0.005);
 }
 
 TEST(ImuDriverOptions, OneMessageOnTheWire) {

@@ -267,4 +267,29 @@ check [ "${backwards:-1}" = 0 ]                      # the kernel's timestamps a
 check [ "${off_clock:-1}" = 0 ]                      # ... on CLOCK_MONOTONIC
 check [ "${messages:-0}" -ge $((samples / 4)) ]      # batches of 4 (fewer at pauses)
 check [ "${lost:-1}" = 0 ]
+
+echo "HIL: iio accelerometer and gyroscope as two devices"  # a BMI088's two drivers
+mkdir /sys/kernel/config/iio/triggers/hrtimer/gyro-timer
+mkdir /sys/kernel/config/iio/devices/dummy/imu-gyro
+cat /tmp/imu.yaml - > /tmp/imu-split.yaml <<EOT
+  gyro_device: imu-gyro
+  gyro_trigger: gyro-timer
+  gyro_sampling_frequency_hz: 200
+  pair_max_gap_s: 0.05         # TCG delays the hrtimer by tens of ms at times
+EOT
+start_recording /tmp/imusplit
+out=/tmp/imu-split.txt start_program hs-imu --config /tmp/imu-split.yaml
+sleep 4
+stop_program $program /tmp/imu-split.txt '^hs-imu: .* samples in'
+samples=$(field '^hs-imu: \([0-9]*\) samples.*')
+paired=$(field '.*paired_samples=\([0-9]*\).*')
+unpaired=$(field '.*unpaired_gyro_samples=\([0-9]*\).*')
+messages=$(recorded /tmp/imusplit IMU messages)
+echo "hs-imu split: exit $stopped, $samples samples, $paired paired, $unpaired unpaired; IMU recorded $messages"
+check [ "$stopped" = 0 ]
+check grep -q 'iio:device[0-9]* (imu-dummy) + iio:device[0-9]* (imu-gyro) opened' /tmp/imu-split.txt
+check [ "${samples:-0}" -ge 400 ]                   # ~4 s at the gyroscope's 200 Hz
+check [ "${samples:-0}" = "${paired:-1}" ]
+check [ "${unpaired:-1}" -le $((samples / 50)) ]   # hrtimer stalls under TCG only
+check [ "${messages:-0}" -ge $((samples / 4)) ]
 exit $status
