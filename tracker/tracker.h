@@ -42,6 +42,10 @@ struct TrackerCounters {
   int64_t corrections_applied = 0;  // mapper corrections (MAP_UPDATE)
   int64_t corrections_ignored = 0;  // for another map id, or no keyframe the tracker still has
   int64_t correction_jumps = 0;     // applied, but moved the pose enough to change the map id
+  // Sensor time from the newest keyframe a correction corrects to the frame it is applied after:
+  // how stale the mapper's corrections are (0 in process; the mapper's latency over LCM).
+  int64_t last_correction_lag_ms = 0;
+  int64_t max_correction_lag_ms = 0;
 };
 
 // What applying one mapper correction did.

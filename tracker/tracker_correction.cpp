@@ -68,6 +68,9 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
     optimizer_.set_gravity(c.g_w);
   }
   ++counters_.corrections_applied;
+  counters_.last_correction_lag_ms = (last_->t_ns - anchor->state.t_ns) / 1'000'000;
+  counters_.max_correction_lag_ms =
+      std::max(counters_.max_correction_lag_ms, counters_.last_correction_lag_ms);
   out.applied = true;
   out.shift_m = (nav.p_w_b - p_before).norm();
   out.shift_rad = Eigen::AngleAxisd(delta.linear()).angle();

@@ -99,14 +99,52 @@ IioDevice::IioDevice(const IioOptions& o, IioPart part)
   const std::string entry = find_device(o.sysfs_root, gyro_device ? o.gyro_device : o.device);
   dir_ = o.sysfs_root + "/" + entry;
   name_ = entry + " (" + read_attr(dir_ + "/name").value_or("?") + ")";
-  const std::string scan_dir = dir_ + "/scan_elements";
+  const std::vector<std::string> available = scan_elements();
+  const std::vector<std::string> wanted = wanted_channels(o, available);
+
+  // Busy: the kernel lets one reader open the buffer.
+  const std::string dev = o.dev_root + "/" + entry;
+  fd_ = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd_ < 0)
+    throw std::runtime_error("cannot open " + dev + ": " + std::strerror(errno) +
+                             (errno == EBUSY ? " (another reader has it)" : ""));
+  try {
+    // A buffer left enabled by a reader that died is stopped before the settings change.
+    write_attr(dir_ + "/buffer/enable", "0", "the buffer");
+    if (exists(dir_ + "/current_timestamp_clock"))
+      write_attr(dir_ + "/current_timestamp_clock", "monotonic", "the timestamp clock");
+    set_trigger_and_rate(o.sysfs_root, trigger, rate_hz);
+    for (const std::string& a : available)
+      write_attr(dir_ + "/scan_elements/" + a + "_en",
+                 std::find(wanted.begin(), wanted.end(), a) == wanted.end() ? "0" : "1",
+                 "scan element " + a);
+    read_layout(o, wanted);
+    if (exists(dir_ + "/buffer/length"))
+      write_attr(dir_ + "/buffer/length", std::to_string(o.buffer_length), "the buffer length");
+    try {
+      write_attr(dir_ + "/buffer/enable", "1", "the buffer");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(e.what()) +
+                               (trigger.empty() ? " (no trigger given: set its trigger?)" : ""));
+    }
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+}
+
+std::vector<std::string> IioDevice::scan_elements() const {
   std::vector<std::string> available;
-  for (const std::string& f : list_dir(scan_dir))
+  for (const std::string& f : list_dir(dir_ + "/scan_elements"))
     if (f.size() > 3 && f.compare(f.size() - 3, 3, "_en") == 0)
       available.push_back(f.substr(0, f.size() - 3));
   if (available.empty())
     throw std::runtime_error(name_ + " has no scan elements: not a buffered IIO device");
+  return available;
+}
 
+std::vector<std::string> IioDevice::wanted_channels(
+    const IioOptions& o, const std::vector<std::string>& available) const {
   // Each configured channel once, then the kernel's timestamp.
   std::vector<std::string> wanted;
   for (const auto* axes : {has_accel_ ? &o.accel : nullptr, has_gyro_ ? &o.gyro : nullptr})
@@ -121,86 +159,64 @@ IioDevice::IioDevice(const IioOptions& o, IioPart part)
       throw InputError(name_ + " has no scan element '" + c + "'" +
                        (c == "in_timestamp" ? " (samples need the kernel's timestamps)" : "") +
                        "; its scan elements: " + all);
+  return wanted;
+}
 
-  // Busy: the kernel lets one reader open the buffer.
-  const std::string dev = o.dev_root + "/" + entry;
-  fd_ = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd_ < 0)
-    throw std::runtime_error("cannot open " + dev + ": " + std::strerror(errno) +
-                             (errno == EBUSY ? " (another reader has it)" : ""));
-  try {
-    // A buffer left enabled by a reader that died is stopped before the settings change.
-    write_attr(dir_ + "/buffer/enable", "0", "the buffer");
-    if (exists(dir_ + "/current_timestamp_clock"))
-      write_attr(dir_ + "/current_timestamp_clock", "monotonic", "the timestamp clock");
-    if (!trigger.empty()) {
-      write_attr(dir_ + "/trigger/current_trigger", trigger, "the trigger");
-      if (read_attr(dir_ + "/trigger/current_trigger") != trigger)
-        throw std::runtime_error(name_ + " did not take trigger '" + trigger + "'");
-    }
-    if (rate_hz > 0) {
-      // A software trigger (hrtimer, sysfs) sets the rate itself; else the device does.
-      const std::string trigger_dir =
-          trigger.empty() ? "" : find_trigger_dir(o.sysfs_root, trigger);
-      std::string target;
-      for (const std::string& t : {trigger_dir.empty() ? "" : trigger_dir + "/sampling_frequency",
-                                   dir_ + "/sampling_frequency", dir_ + "/in_sampling_frequency"})
-        if (target.empty() && !t.empty() && exists(t)) target = t;
-      if (target.empty())
-        throw std::runtime_error(name_ + " and its trigger have no sampling_frequency to set");
-      std::ostringstream hz;
-      hz << rate_hz;
-      write_attr(target, hz.str(), "the sampling frequency");
-    }
-    for (const std::string& a : available)
-      write_attr(scan_dir + "/" + a + "_en",
-                 std::find(wanted.begin(), wanted.end(), a) == wanted.end() ? "0" : "1",
-                 "scan element " + a);
-    for (const std::string& c : wanted) {
-      IioScanChannel ch;
-      ch.name = c;
-      const auto index = read_attr(scan_dir + "/" + c + "_index");
-      const auto type = read_attr(scan_dir + "/" + c + "_type");
-      if (!index || !type)
-        throw InputError(name_ + ": scan element " + c + " lacks its index or type");
-      try {
-        ch.index = std::stoi(*index);
-      } catch (const std::exception&) {
-        throw InputError(scan_dir + "/" + c + "_index: '" + *index + "' is not a number");
-      }
-      ch.type = parse_iio_scan_type(*type);
-      channels_.push_back(ch);
-    }
-    scan_bytes_ = layout_iio_scan(channels_);
-    auto position = [&](const std::string& c) {
-      return static_cast<size_t>(
-          std::find_if(channels_.begin(), channels_.end(),
-                       [&](const IioScanChannel& ch) { return ch.name == c; }) -
-          channels_.begin());
-    };
-    const IioScanType& ts = channels_[position("in_timestamp")].type;
-    if (ts.storagebits != 64 || !ts.is_signed)
-      throw InputError(name_ + ": in_timestamp is not a signed 64-bit value");
-    timestamp_ = position("in_timestamp");
-    const auto axis = [&](const std::string& c) {
-      return Axis{position(c), channel_attr(dir_, c, "scale", 1),
-                  channel_attr(dir_, c, "offset", 0)};
-    };
-    for (int i = 0; i < 3; ++i) {
-      if (has_accel_) accel_[i] = axis(o.accel[i]);
-      if (has_gyro_) gyro_[i] = axis(o.gyro[i]);
-    }
-    if (exists(dir_ + "/buffer/length"))
-      write_attr(dir_ + "/buffer/length", std::to_string(o.buffer_length), "the buffer length");
+void IioDevice::set_trigger_and_rate(const std::string& sysfs_root, const std::string& trigger,
+                                     double rate_hz) const {
+  if (!trigger.empty()) {
+    write_attr(dir_ + "/trigger/current_trigger", trigger, "the trigger");
+    if (read_attr(dir_ + "/trigger/current_trigger") != trigger)
+      throw std::runtime_error(name_ + " did not take trigger '" + trigger + "'");
+  }
+  if (rate_hz <= 0) return;
+  // A software trigger (hrtimer, sysfs) sets the rate itself; else the device does.
+  const std::string trigger_dir = trigger.empty() ? "" : find_trigger_dir(sysfs_root, trigger);
+  std::string target;
+  for (const std::string& t : {trigger_dir.empty() ? "" : trigger_dir + "/sampling_frequency",
+                               dir_ + "/sampling_frequency", dir_ + "/in_sampling_frequency"})
+    if (target.empty() && !t.empty() && exists(t)) target = t;
+  if (target.empty())
+    throw std::runtime_error(name_ + " and its trigger have no sampling_frequency to set");
+  std::ostringstream hz;
+  hz << rate_hz;
+  write_attr(target, hz.str(), "the sampling frequency");
+}
+
+void IioDevice::read_layout(const IioOptions& o, const std::vector<std::string>& wanted) {
+  const std::string scan_dir = dir_ + "/scan_elements";
+  for (const std::string& c : wanted) {
+    IioScanChannel ch;
+    ch.name = c;
+    const auto index = read_attr(scan_dir + "/" + c + "_index");
+    const auto type = read_attr(scan_dir + "/" + c + "_type");
+    if (!index || !type)
+      throw InputError(name_ + ": scan element " + c + " lacks its index or type");
     try {
-      write_attr(dir_ + "/buffer/enable", "1", "the buffer");
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string(e.what()) +
-                               (trigger.empty() ? " (no trigger given: set its trigger?)" : ""));
+      ch.index = std::stoi(*index);
+    } catch (const std::exception&) {
+      throw InputError(scan_dir + "/" + c + "_index: '" + *index + "' is not a number");
     }
-  } catch (...) {
-    ::close(fd_);
-    throw;
+    ch.type = parse_iio_scan_type(*type);
+    channels_.push_back(ch);
+  }
+  scan_bytes_ = layout_iio_scan(channels_);
+  const auto position = [&](const std::string& c) {
+    return static_cast<size_t>(
+        std::find_if(channels_.begin(), channels_.end(),
+                     [&](const IioScanChannel& ch) { return ch.name == c; }) -
+        channels_.begin());
+  };
+  timestamp_ = position("in_timestamp");
+  const IioScanType& ts = channels_[timestamp_].type;
+  if (ts.storagebits != 64 || !ts.is_signed)
+    throw InputError(name_ + ": in_timestamp is not a signed 64-bit value");
+  const auto axis = [&](const std::string& c) {
+    return Axis{position(c), channel_attr(dir_, c, "scale", 1), channel_attr(dir_, c, "offset", 0)};
+  };
+  for (int i = 0; i < 3; ++i) {
+    if (has_accel_) accel_[i] = axis(o.accel[i]);
+    if (has_gyro_) gyro_[i] = axis(o.gyro[i]);
   }
 }
 

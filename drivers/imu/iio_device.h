@@ -60,6 +60,15 @@ class IioDevice {
     double scale = 1, offset = 0;
   };
 
+  std::vector<std::string> scan_elements() const;
+  // The configured channels and in_timestamp, checked against `available`.
+  std::vector<std::string> wanted_channels(const IioOptions& o,
+                                           const std::vector<std::string>& available) const;
+  void set_trigger_and_rate(const std::string& sysfs_root, const std::string& trigger,
+                            double rate_hz) const;
+  // channels_, scan_bytes_, timestamp_ and the axes from the scan elements' index and type.
+  void read_layout(const IioOptions& o, const std::vector<std::string>& wanted);
+
   std::string dir_, name_;
   int fd_ = -1;
   std::vector<IioScanChannel> channels_;

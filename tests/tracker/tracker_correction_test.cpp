@@ -3,6 +3,8 @@
 // for another map or for keyframes the tracker no longer has are ignored and counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "tests/tracker/sim_tracker_fixture.h"
 
 namespace hs {
@@ -53,6 +55,23 @@ TEST_F(TrackerCorrection, SmallRigidShiftMovesThePoseWithTheMap) {
   EXPECT_EQ(after.map_id, before.map_id);  // under the silent limit (2 cm)
   EXPECT_NEAR((after.nav.p_w_b - before.nav.p_w_b - Eigen::Vector3d(0.01, 0, 0)).norm(), 0.0, 1e-3);
   EXPECT_EQ(tracker_->counters().corrections_applied, 1);
+}
+
+// How stale a correction is: from its newest keyframe to the frame it is applied after.
+TEST_F(TrackerCorrection, LagFromTheNewestCorrectedKeyframe) {
+  const FrameResult at = track_range(0, 30);
+  ASSERT_EQ(at.state, TrackState::kTracking);
+  const MapCorrection c = rigid_correction(*tracker_, shift(0.001), 0);
+  int64_t newest_ns = 0;
+  for (const KeyframeCorrection& k : c.keyframes) newest_ns = std::max(newest_ns, k.state.t_ns);
+  const FrameResult later = track_range(30, 34);
+  ASSERT_TRUE(tracker_->apply(c).applied);
+  EXPECT_EQ(tracker_->counters().last_correction_lag_ms, (later.t_ns - newest_ns) / 1'000'000);
+  EXPECT_GE(tracker_->counters().last_correction_lag_ms, (later.t_ns - at.t_ns) / 1'000'000);
+  ASSERT_TRUE(tracker_->apply(rigid_correction(*tracker_, shift(0.0), 0)).applied);
+  EXPECT_LE(tracker_->counters().last_correction_lag_ms,
+            tracker_->counters().max_correction_lag_ms);
+  EXPECT_EQ(tracker_->counters().max_correction_lag_ms, (later.t_ns - newest_ns) / 1'000'000);
 }
 
 TEST_F(TrackerCorrection, LargeMoveIsStatedWithANewMapId) {

@@ -30,6 +30,8 @@ std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBu
           {"corrections_applied", t.corrections_applied},
           {"corrections_ignored", t.corrections_ignored},
           {"correction_jumps", t.correction_jumps},
+          {"last_correction_lag_ms", t.last_correction_lag_ms},
+          {"max_correction_lag_ms", t.max_correction_lag_ms},
           {"imu_accepted", i.accepted},
           {"imu_non_finite", i.non_finite},
           {"imu_out_of_range", i.out_of_range},
