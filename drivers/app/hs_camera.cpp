@@ -42,15 +42,17 @@ SIGINT/SIGTERM.)");
     const hs::TriggerMatchStats t = node.trigger_matching();
     std::printf(
         "hs-camera: %lld + %lld frames, %lld published; dropped by the devices %lld + %lld; "
-        "unpaired %lld + %lld; without trigger %lld, triggers without frame %lld, trigger time "
-        "mismatches %lld; bad %lld; %lld device losses\n",
+        "unpaired %lld + %lld; matched to their trigger %lld, without trigger %lld, triggers "
+        "without frame %lld, trigger time mismatches %lld, relocks %lld; bad %lld; %lld device "
+        "losses\n",
         static_cast<long long>(s.frames[0]), static_cast<long long>(s.frames[1]),
         static_cast<long long>(s.published), static_cast<long long>(node.dropped(0)),
         static_cast<long long>(options.devices.size() > 1 ? node.dropped(1) : 0),
         static_cast<long long>(p.unpaired_left), static_cast<long long>(p.unpaired_right),
-        static_cast<long long>(t.frames_without_trigger),
+        static_cast<long long>(t.matched), static_cast<long long>(t.frames_without_trigger),
         static_cast<long long>(t.triggers_without_frame), static_cast<long long>(t.time_mismatches),
-        static_cast<long long>(s.bad_frames), static_cast<long long>(s.device_lost));
+        static_cast<long long>(t.relocks), static_cast<long long>(s.bad_frames),
+        static_cast<long long>(s.device_lost));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hs-camera: error: %s\n", e.what());
     return 1;

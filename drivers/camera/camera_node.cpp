@@ -2,6 +2,8 @@
 
 #include <poll.h>
 
+#include <cstdio>
+
 #include "common/core/monotonic_clock.h"
 #include "common/core/stop_signal.h"
 #include "common/lcm/process_loop.h"
@@ -39,6 +41,7 @@ void CameraNode::open_missing(int64_t now_ns) {
     if (d.v4l2 || now_ns < d.next_open_ns) continue;
     try {
       d.v4l2 = std::make_unique<V4l2Device>(d.path, options_.format);
+      std::fprintf(stderr, "hs-camera: %s opened\n", d.path.c_str());
       d.sequence.reset();
       d.matcher.reset();
       problem_.clear();
@@ -168,9 +171,11 @@ void CameraNode::publish_heartbeat(int64_t now_ns) {
                        {"published", stats_.published},
                        {"unpaired_left", p.unpaired_left},
                        {"unpaired_right", p.unpaired_right},
+                       {"trigger_matched", t.matched},
                        {"frames_without_trigger", t.frames_without_trigger},
                        {"triggers_without_frame", t.triggers_without_frame},
                        {"trigger_time_mismatches", t.time_mismatches},
+                       {"trigger_relocks", t.relocks},
                        {"bad_frames", stats_.bad_frames},
                        {"device_lost", stats_.device_lost},
                        {"open_failures", stats_.open_failures}});

@@ -26,6 +26,24 @@ void TriggerMatcher::reset() {
   mismatches_in_row_ = 0;
 }
 
+const TriggerMatcher::Pulse* TriggerMatcher::only_plausible(int64_t buffer_t_ns) const {
+  const Pulse* found = nullptr;
+  for (const Pulse& p : pulses_) {
+    if (!plausible(p.t_ns, buffer_t_ns)) continue;
+    if (found) return nullptr;
+    found = &p;
+  }
+  return found;
+}
+
+TriggerMatch TriggerMatcher::matched(const Pulse& p) {
+  TriggerMatch m{TriggerDecision::kMatched, p.seq, p.t_ns};
+  mismatches_in_row_ = 0;
+  consume_through(p.seq);  // p is gone after this
+  ++stats_.matched;
+  return m;
+}
+
 TriggerMatch TriggerMatcher::match(uint32_t frame_seq, int64_t buffer_t_ns, int64_t waited_ns) {
   TriggerMatch m;
   const bool may_wait = waited_ns < options_.max_wait_ns;
@@ -47,6 +65,19 @@ TriggerMatch TriggerMatcher::match(uint32_t frame_seq, int64_t buffer_t_ns, int6
     m.trigger_seq = p.seq;
     m.trigger_t_ns = p.t_ns;
     if (!plausible(p.t_ns, buffer_t_ns)) {
+      if (const Pulse* only = only_plausible(buffer_t_ns)) {
+        // The pairing slipped (a pulse the camera never saw) and the buffer time names its pulse
+        // unambiguously: follow it at once instead of dropping relock_after frames.
+        offset_ = only->seq - static_cast<int64_t>(frame_seq);
+        ++stats_.relocks;
+        return matched(*only);
+      }
+      if (may_wait && buffer_t_ns > pulses_.back().t_ns) {
+        // A pulse not heard yet may be this frame's (the camera missed the one wanted and its
+        // next TRIGGER message is still on its way): wait for it before calling a mismatch.
+        m.decision = TriggerDecision::kWait;
+        return m;
+      }
       ++stats_.time_mismatches;
       m.decision = TriggerDecision::kTimeMismatch;
       if (++mismatches_in_row_ >= options_.relock_after) {
@@ -56,11 +87,7 @@ TriggerMatch TriggerMatcher::match(uint32_t frame_seq, int64_t buffer_t_ns, int6
       }
       return m;
     }
-    mismatches_in_row_ = 0;
-    consume_through(p.seq);
-    ++stats_.matched;
-    m.decision = TriggerDecision::kMatched;
-    return m;
+    return matched(p);
   }
   // No pulse with that seq: lost (newer pulses exist) or not heard yet.
   const bool newer = !pulses_.empty() && pulses_.back().seq > want;

@@ -3,6 +3,9 @@
 // frames are related by sequence (trigger seq = frame seq + offset); the offset is learnt from the
 // first frame whose buffer time follows a pulse within max_latency, and every match is checked
 // the same way (a buffer stamped before its pulse, or too long after, is not that pulse's frame).
+// A frame that fails the check but plausibly follows exactly one other pulse relocks the offset
+// there at once (the camera missed a pulse), waiting for that pulse's message if need be;
+// ambiguous ones relock after relock_after mismatches in a row.
 // TRIGGER messages may arrive after the frame (LCM), so a frame may wait for max_wait.
 #include <cstdint>
 #include <deque>
@@ -58,12 +61,13 @@ class TriggerMatcher {
   bool plausible(int64_t trigger_t_ns, int64_t buffer_t_ns) const {
     return buffer_t_ns >= trigger_t_ns && buffer_t_ns - trigger_t_ns <= options_.max_latency_ns;
   }
-  void consume_through(int64_t seq);  // drops pulses up to seq (unmatched ones counted)
-
   struct Pulse {
     int64_t seq;
     int64_t t_ns;
   };
+  void consume_through(int64_t seq);  // drops pulses up to seq (unmatched ones counted)
+  const Pulse* only_plausible(int64_t buffer_t_ns) const;  // null: none, or more than one
+  TriggerMatch matched(const Pulse& p);                    // p is the frame's pulse
   TriggerMatcherOptions options_;
   std::deque<Pulse> pulses_;
   std::optional<int64_t> offset_;  // trigger seq - frame seq

@@ -58,9 +58,8 @@ IioBackend::IioBackend(const IioOptions& options)
               buffer_span_ns(options.buffer_length, options.gyro_sampling_frequency_hz) / 2) {}
 
 void IioBackend::open() {
-  const bool split = !options_.gyro_device.empty();
-  device_ = std::make_unique<IioDevice>(options_, split ? IioPart::kAccel : IioPart::kBoth);
-  if (split) gyro_device_ = std::make_unique<IioDevice>(options_, IioPart::kGyro);
+  device_ = std::make_unique<IioDevice>(options_, split() ? IioPart::kAccel : IioPart::kBoth);
+  if (split()) gyro_device_ = std::make_unique<IioDevice>(options_, IioPart::kGyro);
   check_.restart();
   gyro_check_.restart();
   pairer_.restart();
@@ -85,7 +84,7 @@ IioDevice::ReadStatus IioBackend::read_checked(IioDevice& device, IioTimestampCh
 
 ImuBackend::ReadStatus IioBackend::read(int timeout_ms, std::vector<ImuSample>* samples) {
   using Status = IioDevice::ReadStatus;
-  if (!gyro_device_) {
+  if (!split()) {
     std::vector<ImuSample> read;
     const Status status = read_checked(*device_, check_, timeout_ms, &read);
     samples->insert(samples->end(), read.begin(), read.end());
@@ -109,10 +108,12 @@ ImuBackend::ReadStatus IioBackend::read(int timeout_ms, std::vector<ImuSample>* 
 }
 
 std::string IioBackend::device() const {
-  if (!options_.gyro_device.empty())
-    return (device_ ? device_->name() : "IIO device " + options_.device) + " + " +
-           (gyro_device_ ? gyro_device_->name() : "IIO device " + options_.gyro_device);
-  return device_ ? device_->name() : "IIO device " + options_.device;
+  // The kernel's name once open, else the configured one.
+  auto name = [](const std::unique_ptr<IioDevice>& d, const std::string& configured) {
+    return d ? d->name() : "IIO device " + configured;
+  };
+  const std::string accel = name(device_, options_.device);
+  return split() ? accel + " + " + name(gyro_device_, options_.gyro_device) : accel;
 }
 
 int64_t IioBackend::bad_input() const {
@@ -128,7 +129,7 @@ ImuBackend::Counters IioBackend::counters() const {
                   {"backwards_timestamps", c.backwards + g.backwards},
                   {"off_clock_timestamps", c.off_clock + g.off_clock},
                   {"lost_samples", c.lost_samples + g.lost_samples}};
-  if (!options_.gyro_device.empty()) {
+  if (split()) {
     out.emplace_back("paired_samples", pairer_.counters().paired);
     out.emplace_back("unpaired_gyro_samples", pairer_.counters().unpaired_gyro);
     out.emplace_back("leading_gyro_samples", pairer_.counters().leading_gyro);

@@ -48,6 +48,8 @@ class IioBackend : public ImuBackend {
   Counters counters() const override;
 
  private:
+  // Accelerometer and gyroscope as two IIO devices (a BMI088's two drivers).
+  bool split() const { return !options_.gyro_device.empty(); }
   IioDevice::ReadStatus read_checked(IioDevice& device, IioTimestampCheck& check, int timeout_ms,
                                      std::vector<ImuSample>* samples);
 

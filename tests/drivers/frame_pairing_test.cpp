@@ -66,11 +66,13 @@ TEST(TriggerMatcher, LearnsTheOffsetAndMatchesBySequenceWithATimeCheck) {
   EXPECT_EQ(r.trigger_seq, 42);
   r = m.match(1, 43 * 50 * kMs + 11 * kMs, 0);
   EXPECT_EQ(r.trigger_seq, 43);
-  // The camera missed pulse 44: frame 2 comes from pulse 45; its buffer time does not fit 44.
-  r = m.match(2, 45 * 50 * kMs + 12 * kMs, 0);
+  // A buffer stamped 45 ms after pulse 44, more than max_latency: not that pulse's frame, and it
+  // fits no other.
+  r = m.match(2, 44 * 50 * kMs + 45 * kMs, 0);
   EXPECT_EQ(r.decision, TriggerDecision::kTimeMismatch);
   EXPECT_EQ(m.stats().time_mismatches, 1);
   EXPECT_EQ(m.stats().matched, 2);
+  EXPECT_EQ(m.stats().relocks, 0);
 }
 
 TEST(TriggerMatcher, FramesWaitForLateTriggersAndGiveUpOnLostOnes) {
@@ -93,17 +95,59 @@ TEST(TriggerMatcher, FramesWaitForLateTriggersAndGiveUpOnLostOnes) {
   EXPECT_FALSE(m.add_trigger(3, 1150 * kMs)) << "a repeated pulse is ignored";
 }
 
-TEST(TriggerMatcher, PulsesTheCameraNeverSawAreCountedAndTheOffsetRelearnt) {
+TEST(TriggerMatcher, APulseTheCameraNeverSawRelocksAtOnceWhenTheTimeNamesTheNext) {
+  TriggerMatcher m(TriggerMatcherOptions{});
+  for (int64_t s = 0; s < 20; ++s) m.add_trigger(s, s * 50 * kMs);
+  EXPECT_EQ(m.match(0, 0 * 50 * kMs + 10 * kMs, 0).trigger_seq, 0);
+  EXPECT_EQ(m.match(1, 1 * 50 * kMs + 10 * kMs, 0).trigger_seq, 1);
+  // The camera missed pulse 2: frame 2 comes from pulse 3, the only pulse its time fits.
+  TriggerMatch r = m.match(2, 3 * 50 * kMs + 10 * kMs, 0);
+  EXPECT_EQ(r.decision, TriggerDecision::kMatched);
+  EXPECT_EQ(r.trigger_seq, 3);
+  EXPECT_EQ(r.trigger_t_ns, 3 * 50 * kMs);
+  r = m.match(3, 4 * 50 * kMs + 10 * kMs, 0);
+  EXPECT_EQ(r.trigger_seq, 4);
+  EXPECT_EQ(m.stats().matched, 4);
+  EXPECT_EQ(m.stats().relocks, 1);
+  EXPECT_EQ(m.stats().time_mismatches, 0);
+  EXPECT_EQ(m.stats().triggers_without_frame, 1);  // pulse 2
+}
+
+TEST(TriggerMatcher, AFrameAfterAMissedPulseWaitsForTheTriggerMessageItFollows) {
+  TriggerMatcher m(TriggerMatcherOptions{});
+  for (int64_t s = 0; s < 3; ++s) m.add_trigger(s, s * 50 * kMs);
+  EXPECT_EQ(m.match(0, 1 * 50 * kMs + 10 * kMs, 0).trigger_seq, 1);
+  // The camera missed pulse 2; frame 1 comes from pulse 3, whose message has not arrived yet.
+  const int64_t frame_t = 3 * 50 * kMs + 10 * kMs;
+  EXPECT_EQ(m.match(1, frame_t, 5 * kMs).decision, TriggerDecision::kWait);
+  m.add_trigger(3, 3 * 50 * kMs);
+  const TriggerMatch r = m.match(1, frame_t, 20 * kMs);
+  EXPECT_EQ(r.decision, TriggerDecision::kMatched);
+  EXPECT_EQ(r.trigger_seq, 3);
+  // A frame no pulse explains, once the wait is over, is a mismatch.
+  m.add_trigger(4, 4 * 50 * kMs);
+  EXPECT_EQ(m.match(2, 5 * 50 * kMs + 45 * kMs, 5 * kMs).decision, TriggerDecision::kWait);
+  EXPECT_EQ(m.match(2, 5 * 50 * kMs + 45 * kMs, 150 * kMs).decision,
+            TriggerDecision::kTimeMismatch);
+  EXPECT_EQ(m.stats().time_mismatches, 1);
+  EXPECT_EQ(m.stats().relocks, 1);
+}
+
+TEST(TriggerMatcher, AmbiguousTimesRelockOnlyAfterMismatchesInARow) {
+  // 30 Hz pulses with a 40 ms latency window: a buffer can fit two pulses.
   TriggerMatcherOptions o;
   o.relock_after = 2;
   TriggerMatcher m(o);
-  for (int64_t s = 0; s < 20; ++s) m.add_trigger(s, s * 50 * kMs);
-  EXPECT_EQ(m.match(0, 0 * 50 * kMs + 10 * kMs, 0).trigger_seq, 0);
-  // From here the camera skipped a pulse: frame k is exposed by pulse k + 1.
-  EXPECT_EQ(m.match(1, 2 * 50 * kMs + 10 * kMs, 0).decision, TriggerDecision::kTimeMismatch);
-  EXPECT_EQ(m.match(2, 3 * 50 * kMs + 10 * kMs, 0).decision, TriggerDecision::kTimeMismatch);
+  auto pulse_t = [](int64_t s) { return s * 33 * kMs; };
+  for (int64_t s = 0; s < 20; ++s) m.add_trigger(s, pulse_t(s));
+  EXPECT_EQ(m.match(0, pulse_t(0) + 10 * kMs, 0).trigger_seq, 0);
+  // From here the camera skipped a pulse: frame k is exposed by pulse k + 1, stamped 35 ms after
+  // it, which also fits pulse k + 2.
+  EXPECT_EQ(m.match(1, pulse_t(2) + 35 * kMs, 0).decision, TriggerDecision::kTimeMismatch);
+  EXPECT_EQ(m.match(2, pulse_t(3) + 35 * kMs, 0).decision, TriggerDecision::kTimeMismatch);
   EXPECT_EQ(m.stats().relocks, 1);
-  const TriggerMatch r = m.match(3, 4 * 50 * kMs + 10 * kMs, 0);
+  // Learnt anew from the newest pulse the buffer follows.
+  const TriggerMatch r = m.match(3, pulse_t(4) + 10 * kMs, 0);
   EXPECT_EQ(r.decision, TriggerDecision::kMatched);
   EXPECT_EQ(r.trigger_seq, 4);
   EXPECT_EQ(m.stats().triggers_without_frame, 3);  // pulses 1, 2, 3 exposed no frame we kept

@@ -2,6 +2,7 @@
 # Prepares the hardware-in-the-loop harness: Debian's own kernel (the version linux-image-amd64
 # points to today) with vivid (virtual V4L2 cameras), gpio-sim and the IIO dummy device with the
 # hrtimer trigger (built here out of tree from Debian's linux-source: Debian does not ship them),
+# v4l2loopback (a camera with a trigger input, with hil-triggered-camera),
 # and an initramfs holding busybox, the modules,
 # the V4L2/GPIO tools, the programs under test and their shared libraries. Idempotent.
 #   tests/hil/setup.sh WORKDIR [PROGRAM...]      (root: installs packages with apt-get)
@@ -83,6 +84,22 @@ EOK
   touch "mod/.done-$kver-iio"
 fi
 
+if [ ! -f "loopback/.done-$kver" ]; then
+  # A camera with a trigger input: v4l2loopback (Debian's DKMS source, built here) whose output
+  # side the guest's hil-triggered-camera writes on each trigger pulse.
+  log "building v4l2loopback"
+  rm -rf loopback debs/v4l2loopback-dkms_*.deb && mkdir loopback
+  (cd debs && apt-get download v4l2loopback-dkms 2>/dev/null)
+  dpkg-deb --fsys-tarfile debs/v4l2loopback-dkms_*.deb |
+    tar -x -C loopback --strip-components=4 --wildcards './usr/src/v4l2loopback-*/*'
+  make -s -C "kheaders/usr/src/linux-headers-$kver" M="$work/loopback" modules 2>&1 |
+    grep -v BTF || true
+  mkdir -p "kernel/lib/modules/$kver/extra"
+  cp loopback/v4l2loopback.ko "kernel/lib/modules/$kver/extra/"
+  depmod -b kernel "$kver"
+  touch "loopback/.done-$kver"
+fi
+
 log "building the initramfs"
 root=$work/root
 rm -rf "$root"
@@ -90,7 +107,7 @@ mkdir -p "$root"/{bin,dev,proc,sys,tmp,modules,hil,lib64,out}
 cp /bin/busybox "$root/bin/busybox"
 # Modules in load order, for busybox insmod.
 : > "$root/modules/order"
-for m in vivid configfs gpio-sim iio-trig-hrtimer iio_dummy; do
+for m in vivid configfs gpio-sim iio-trig-hrtimer iio_dummy v4l2loopback; do
   modprobe -d kernel -S "$kver" --show-depends "$m" | awk '$1 == "insmod" {print $2}' |
     while read -r ko; do
       name=$(basename "$ko")
@@ -102,6 +119,9 @@ for m in vivid configfs gpio-sim iio-trig-hrtimer iio_dummy; do
 done
 # Two vivid instances with a capture node each: /dev/video0 and /dev/video1, a stereo pair.
 echo "n_devs=2 node_types=0x1,0x1 vid_cap_nr=0,1" > "$root/modules/vivid.ko.params"
+# The triggered stereo pair: /dev/video2 and /dev/video3, capture and output on each node.
+echo "devices=2 video_nr=2,3 exclusive_caps=0,0 card_label=hil-left,hil-right" \
+  > "$root/modules/v4l2loopback.ko.params"
 # Tools and programs with their shared libraries (and the loader).
 copy_with_libs() {
   local bin=$1

@@ -48,6 +48,12 @@ stop_program() {
   summary=$(grep "$3" "$2")
 }
 field() { echo "$summary" | sed -n "s/$1/\1/p"; }
+# The frame counts in hs-camera's summary line (after stop_program).
+camera_fields() {
+  left=$(field '^hs-camera: \([0-9]*\) + .*')
+  right=$(field '^hs-camera: [0-9]* + \([0-9]*\) frames.*')
+  published=$(field '.* frames, \([0-9]*\) published.*')
+}
 # Field $3 (messages, lost_upstream...) of channel $2 in the check $1.json.
 recorded() {
   grep -A12 "\"$2\"" "$1.json" | sed -n "s/.*\"$3\": \([0-9]*\).*/\1/p" | head -1
@@ -155,8 +161,7 @@ v4l2-ctl -d /dev/video0 -c disconnect=1
 sleep 3
 stop_program $camera /tmp/camera.txt '^hs-camera: .* frames, '
 camera_status=$stopped
-left=$(field '^hs-camera: \([0-9]*\) + .*')
-published=$(field '.* frames, \([0-9]*\) published.*')
+camera_fields
 dropped_left=$(field '.*dropped by the devices \([0-9]*\) + .*')
 dropped_right=$(field '.*dropped by the devices [0-9]* + \([0-9]*\);.*')
 losses=$(field '.*; \([0-9]*\) device losses.*')
@@ -209,6 +214,86 @@ check grep -q 'YUYV 10000x180 .*refused' /tmp/camera-size.txt
 check grep -q 'cannot set manual exposure' /tmp/camera-exposure.txt
 check grep -q 'frames without a TRIGGER pulse' /tmp/camera-notrigger.txt
 check [ "$(field '.*without trigger \([0-9]*\),.*')" -ge 20 ]  # 2 s at 30 fps, all of them
+
+# hs-camera in external-trigger mode on a stereo pair exposed by hs-trigger's pulses: two
+# hil-triggered-camera write a frame each to v4l2loopback (/dev/video2, /dev/video3) on each rising
+# edge of the trigger line; the left one misses pulse 30. Every frame must be paired with its own
+# pulse (its buffer follows the pulse within max_latency) and stamped from it, the missed pulse
+# counted and followed at once, and the right frame it leaves alone dropped.
+cat > /tmp/trigger10.yaml <<EOT
+trigger:
+  chip: $chip
+  output_line: cam-trigger
+  rate_hz: 10
+  pulse_width_s: 0.03
+EOT
+cat > /tmp/camera-triggered.yaml <<EOT
+camera:
+  devices: [/dev/video2, /dev/video3]
+  width: 320
+  height: 180
+  format: GREY
+  fps: 10
+  mode: external-trigger
+  exposure_s: 0.004
+  exposure_control: false      # set "by other means": the loopback has no exposure control
+trigger_pairing:
+  max_latency_s: 0.08          # pulse to buffer under TCG; under the 0.1 s period: unambiguous
+EOT
+hil-triggered-camera /dev/video2 $sim/sim_gpio0/value 320 180 30 > /tmp/tcam-left.txt 2>&1 &
+tcam_left=$!
+hil-triggered-camera /dev/video3 $sim/sim_gpio0/value 320 180 0 > /tmp/tcam-right.txt 2>&1 &
+tcam_right=$!
+ready /tmp/tcam-left.txt ready && ready /tmp/tcam-right.txt ready
+start_recording /tmp/triglog
+out=/tmp/camera-triggered.txt start_program hs-camera --config /tmp/camera-triggered.yaml
+camera=$program
+ready /tmp/camera-triggered.txt 'video2 opened' && ready /tmp/camera-triggered.txt 'video3 opened'
+out=/tmp/trigger10.txt start_program hs-trigger --config /tmp/trigger10.yaml
+trigger=$program
+sleep 6
+kill -INT $trigger
+wait $trigger
+trigger_status=$?
+usleep 500000                  # the last frames meet their TRIGGER messages
+kill -INT $tcam_left $tcam_right
+wait $tcam_left $tcam_right
+cat /tmp/trigger10.txt /tmp/tcam-left.txt /tmp/tcam-right.txt
+stop_program $camera /tmp/camera-triggered.txt '^hs-camera: .* frames, '
+camera_status=$stopped
+camera_fields
+unpaired=$(field '.*unpaired \([0-9]* + [0-9]*\);.*')
+matched=$(field '.*matched to their trigger \([0-9]*\),.*')
+no_trigger=$(field '.*without trigger \([0-9]*\),.*')
+no_frame=$(field '.*triggers without frame \([0-9]*\),.*')
+mismatches=$(field '.*trigger time mismatches \([0-9]*\),.*')
+relocks=$(field '.*relocks \([0-9]*\);.*')
+pulses=$(sed -n 's/^hs-trigger: \([0-9]*\) pulses.*/\1/p' /tmp/trigger10.txt)
+seen=$(sed -n 's/^hil-triggered-camera: \([0-9]*\) pulses.*/\1/p' /tmp/tcam-left.txt)
+written=$(sed -n 's/.* pulses, \([0-9]*\) frames written.*/\1/p' /tmp/tcam-left.txt)
+written_right=$(sed -n 's/.* pulses, \([0-9]*\) frames written.*/\1/p' /tmp/tcam-right.txt)
+recorded=$(recorded /tmp/triglog CAM_STEREO messages)
+lost=$(recorded /tmp/triglog CAM_STEREO lost_upstream)
+triggers=$(recorded /tmp/triglog TRIGGER messages)
+echo "triggered stereo: $pulses pulses, $seen seen, $written + $written_right frames; hs-camera exit $camera_status, $left + $right frames, $matched matched, $published published, unpaired $unpaired, $no_trigger without trigger, $no_frame pulses without frame, $mismatches mismatches, $relocks relocks; recorded CAM_STEREO $recorded (lost $lost), TRIGGER $triggers"
+check [ "$trigger_status" = 0 ]
+check [ "$camera_status" = 0 ]
+check [ "${pulses:-0}" -ge 50 ]                      # 6 s at 10 Hz
+check [ "${seen:-0}" = "$pulses" ]                   # the cameras saw every pulse ...
+check [ "${written_right:-0}" = "$pulses" ]
+check [ "${written:-0}" = $((pulses - 1)) ]          # ... and the left one missed one
+check [ "${left:-0}" = "$written" ]                  # hs-camera read every frame
+check [ "${right:-0}" = "$written_right" ]
+check [ "${matched:-0}" = $((left + right)) ]        # each paired with its pulse, in time
+check [ "${no_trigger:-1}" = 0 ]
+check [ "${mismatches:-1}" = 0 ]
+check [ "${relocks:-0}" = 1 ]                        # the missed pulse, followed at once ...
+check [ "${no_frame:-0}" = $((2 * pulses - matched)) ]  # ... and counted: the skipped one
+check [ "$unpaired" = "0 + 1" ]                      # the right frame of the missed pulse
+check [ "${published:-0}" = "$left" ]                # stereo pairs stamped from one pulse
+check [ "${recorded:-0}" = "$published" ]
+check [ "${lost:-1}" = 0 ]
+check [ "${triggers:-0}" = "$pulses" ]
 
 echo "HIL: iio trigger"
 mkdir /sys/kernel/config/iio/triggers/hrtimer/imu-timer
