@@ -52,8 +52,11 @@ V4l2Device::V4l2Device(const std::string& path, const V4l2Format& want, int buff
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
     fmt.fmt.pix.bytesperline = 0;  // let the driver choose the stride afresh
     fmt.fmt.pix.sizeimage = 0;
-    if (xioctl(fd_, VIDIOC_S_FMT, &fmt) < 0)
-      fail(std::string("cannot set the format: ") + std::strerror(errno));
+    if (xioctl(fd_, VIDIOC_S_FMT, &fmt) < 0) {
+      const int err = errno;
+      fail(std::string("cannot set the format: ") + std::strerror(err) +
+           (err == EBUSY ? " (another program is streaming from it)" : ""));
+    }
     if (fmt.fmt.pix.pixelformat != fourcc_of(want.format) ||
         static_cast<int>(fmt.fmt.pix.width) != want.width ||
         static_cast<int>(fmt.fmt.pix.height) != want.height)

@@ -214,6 +214,24 @@ check grep -q 'YUYV 10000x180 .*refused' /tmp/camera-size.txt
 check grep -q 'cannot set manual exposure' /tmp/camera-exposure.txt
 check grep -q 'frames without a TRIGGER pulse' /tmp/camera-notrigger.txt
 check [ "$(field '.*without trigger \([0-9]*\),.*')" -ge 20 ]  # 2 s at 30 fps, all of them
+# hs-camera on a device another program is streaming from (v4l2-ctl, for about 3 s): refused
+# as busy, retried, and read once it is free.
+v4l2-ctl -d /dev/video0 --stream-mmap --stream-count=90 --stream-to=/dev/null &
+holder=$!
+sed -e 's/width: 10000/width: 320/' /tmp/camera-size.yaml > /tmp/camera-busy.yaml
+start_recording /tmp/cambusy
+out=/tmp/camera-busy.txt start_program hs-camera --config /tmp/camera-busy.yaml
+camera=$program
+ready /tmp/camera-busy.txt 'another program is streaming from it'
+wait $holder
+ready /tmp/camera-busy.txt 'video0 opened'
+sleep 2
+stop_program $camera /tmp/camera-busy.txt '^hs-camera: .* frames, '
+camera_fields
+check [ "$stopped" = 0 ]
+check grep -q 'video0: cannot set the format: Device or resource busy' /tmp/camera-busy.txt
+check [ "${published:-0}" -ge 20 ]                   # 2 s at 30 fps once free (~20 under TCG)
+check [ "$(recorded /tmp/cambusy CAM_STEREO messages)" = "$published" ]
 
 # hs-camera in external-trigger mode on a stereo pair exposed by hs-trigger's pulses: two
 # hil-triggered-camera write a frame each to v4l2loopback (/dev/video2, /dev/video3) on each rising
