@@ -120,6 +120,30 @@ bool KeyframeGraph::remove_point(int64_t id) {
   return true;
 }
 
+int64_t KeyframeGraph::add_point(const Eigen::Vector3d& p_w,
+                                 const std::vector<Observation>& observations) {
+  const auto keypoint = [this](const Observation& o) -> MapperKeypoint& {
+    return keyframes_.at(o.keyframe_id).kf.keypoints.at(static_cast<size_t>(o.keypoint));
+  };
+  for (const Observation& o : observations)
+    if (keypoint(o).point_id >= 0)
+      throw std::invalid_argument("KeyframeGraph::add_point: keypoint " +
+                                  std::to_string(o.keypoint) + " of keyframe " +
+                                  std::to_string(o.keyframe_id) + " already sees a point");
+  const int64_t id = next_point_id_++;
+  MapperPoint& p = points_[id];
+  p.id = id;
+  p.p_w = p_w;
+  p.first_keyframe_id = observations.front().keyframe_id;
+  for (const Observation& o : observations) {
+    keypoint(o).point_id = id;
+    for (const Observation& seen : p.observations) add_weight(o.keyframe_id, seen.keyframe_id, 1);
+    p.observations.push_back(o);
+  }
+  update_descriptor(p);
+  return id;
+}
+
 const MapperKeyframe* KeyframeGraph::keyframe(int64_t id) const {
   const auto it = keyframes_.find(id);
   return it == keyframes_.end() ? nullptr : &it->second.kf;

@@ -31,6 +31,13 @@ struct KeyframeGraphOptions {
   size_t max_fixed_keyframes = 0;
 };
 
+// Points the mapper triangulates itself get ids from here up: the tracker's ids stay below, and
+// the tracker never hears of these (they refine keyframe poses only).
+constexpr int64_t kMapperPointIdBase = int64_t{1} << 60;
+inline bool mapper_made_point(int64_t id) {
+  return id >= kMapperPointIdBase;
+}
+
 struct Observation {
   int64_t keyframe_id = -1;
   int keypoint = -1;  // index into that keyframe's keypoints
@@ -75,6 +82,9 @@ class KeyframeGraph {
   // and relinks its successor to its predecessor, prepending its IMU samples.
   bool remove_keyframe(int64_t id);
   bool remove_point(int64_t id);
+  // A point of the mapper's own at p_w, seen by the given keypoints (each free: point_id -1, of
+  // a keyframe of one world). Returns its id (from kMapperPointIdBase up).
+  int64_t add_point(const Eigen::Vector3d& p_w, const std::vector<Observation>& observations);
 
   const MapperKeyframe* keyframe(int64_t id) const;
   const MapperPoint* point(int64_t id) const;
@@ -116,6 +126,7 @@ class KeyframeGraph {
   std::unordered_map<int64_t, int64_t> successor_;  // prev id -> the keyframe naming it prev
   std::unordered_set<int64_t> seen_ids_;
   int64_t max_id_ = -1;
+  int64_t next_point_id_ = kMapperPointIdBase;
   std::optional<int32_t> last_map_id_;
   std::unordered_map<int32_t, int32_t> world_of_map_;  // map id -> world (the first map id's)
   KeyframeGraphCounters counters_;

@@ -7,7 +7,7 @@
 namespace hs {
 
 Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
-    : options_(options), graph_(options.graph), ba_(calib, options.ba) {
+    : options_(options), calib_(calib), graph_(options.graph), ba_(calib, options.ba) {
   if (options_.far_point_disparity_px > 0)
     options_.window.fixed_point_distance_m =
         calib.cam0.intrinsics.fx * calib.baseline() / options_.far_point_disparity_px;
@@ -33,6 +33,11 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   const int every = options_.inertial.every_keyframes;
   if (every > 0 && counters_.keyframes % every == 0) refine_inertial(id, step);
 
+  const std::vector<NewPoint> made =
+      triangulate_new_points(graph_, id, calib_, options_.new_points);
+  for (const NewPoint& p : made) graph_.add_point(p.p_w, {p.a, p.b});
+  step.new_points = static_cast<int>(made.size());
+  counters_.new_points += step.new_points;
   const LocalWindow window = graph_.local_window(id);
   WindowInput problem = window_input(graph_, window, options_.window);
   problem.input.gravity = {g_w_, options_.window_gravity_sigma_rad};
@@ -69,13 +74,13 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
     if (failed >= 2 && failed >= options_.point_outlier_ratio * seen) {
       graph_.remove_point(p.id);
       removed_points_.insert(p.id);
-      c.removed_points.push_back(p.id);
+      ++counters_.removed_points;
+      if (!mapper_made_point(p.id)) c.removed_points.push_back(p.id);
       continue;
     }
     graph_.set_position(p.id, p.p_w);
-    c.points.push_back({p.id, p.p_w});
+    if (!mapper_made_point(p.id)) c.points.push_back({p.id, p.p_w});  // the tracker's only
   }
-  counters_.removed_points += static_cast<int64_t>(c.removed_points.size());
 
   if (options_.cull_keyframes) {
     for (int64_t k : redundant_keyframes(graph_, window.keyframes, options_.culling)) {

@@ -16,6 +16,7 @@
 #include "mapper/keyframe_culling.h"
 #include "mapper/keyframe_graph.h"
 #include "mapper/local_ba.h"
+#include "mapper/new_points.h"
 #include "mapper/window_input.h"
 
 namespace hs {
@@ -24,6 +25,7 @@ struct MapperOptions {
   KeyframeGraphOptions graph;
   WindowInputOptions window;
   LocalBaOptions ba;
+  NewPointOptions new_points;
   CullingOptions culling;
   bool cull_keyframes = true;
   // Gravity direction, velocities and biases over a long chain stretch.
@@ -52,6 +54,7 @@ struct MapperCounters {
   int64_t local_ba_runs = 0;
   int64_t inertial_refinements = 0;           // adopted
   int64_t inertial_refinements_rejected = 0;  // implausible result: not adopted
+  int64_t new_points = 0;                     // triangulated by the mapper
   int64_t culled_keyframes = 0;
   int64_t removed_points = 0;
   // Keypoints of later keyframes still naming a removed point (sent before the tracker applied
@@ -64,6 +67,7 @@ struct MapperStep {
   std::optional<MapCorrection> correction;  // none for a duplicate keyframe
   LocalBaStats ba;
   std::optional<LocalBaStats> inertial;  // when the inertial refinement ran before the BA
+  int new_points = 0;                    // triangulated for this keyframe
   int window_keyframes = 0;
   int window_points = 0;        // in the BA: seen by two keyframes or more
   int window_observations = 0;  // reprojection terms
@@ -85,6 +89,7 @@ class Mapper {
   void refine_inertial(int64_t newest, MapperStep& step);
 
   MapperOptions options_;
+  StereoCalib calib_;
   KeyframeGraph graph_;
   LocalBundleAdjuster ba_;
   MapperCounters counters_;

@@ -4,6 +4,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <cstring>
 #include <unordered_map>
 #include <vector>
 
@@ -16,7 +17,12 @@ using Descriptor = std::array<uint8_t, 32>;  // ORB, 256 bits
 // Hamming distance between two descriptors (0..256).
 inline int hamming_distance(const Descriptor& a, const Descriptor& b) {
   int d = 0;
-  for (size_t i = 0; i < a.size(); ++i) d += static_cast<int>(std::bitset<8>(a[i] ^ b[i]).count());
+  for (size_t i = 0; i < a.size(); i += 8) {
+    uint64_t x = 0, y = 0;
+    std::memcpy(&x, a.data() + i, 8);
+    std::memcpy(&y, b.data() + i, 8);
+    d += static_cast<int>(std::bitset<64>(x ^ y).count());
+  }
   return d;
 }
 

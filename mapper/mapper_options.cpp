@@ -64,6 +64,25 @@ MapperConfig load_mapper_config(const std::string& path) {
     r.max_keyframes = static_cast<size_t>(max_kf);
     r.min_keyframes = static_cast<size_t>(min_kf);
   });
+  top.section("new_points", [&](ConfigSection& s) {
+    NewPointOptions& n = o.new_points;
+    int covisible = static_cast<int>(n.covisible_keyframes);
+    s.read("covisible_keyframes", covisible);
+    s.read("max_hamming", n.max_hamming);
+    s.read("ratio", n.ratio);
+    s.read("epipolar_px", n.epipolar_px);
+    s.read("min_parallax_deg", n.min_parallax_deg);
+    s.read("max_reprojection_px", n.max_reprojection_px);
+    s.read("scale_ratio_factor", n.scale_ratio_factor);
+    s.read("pixel_sigma", o.window.new_point_pixel_sigma);
+    if (covisible < 0 || n.max_hamming < 0 || n.max_hamming > 256 ||
+        !(n.ratio > 0 && n.ratio <= 1) || !(n.epipolar_px > 0) || !(n.min_parallax_deg >= 0) ||
+        !(n.max_reprojection_px > 0) || !(n.scale_ratio_factor >= 1) ||
+        !(o.window.new_point_pixel_sigma > 0))
+      s.fail("covisible_keyframes", "new point options out of range");
+    n.covisible_keyframes = static_cast<size_t>(covisible);
+    n.octave_scale = o.window.octave_scale;
+  });
   top.section("culling", [&](ConfigSection& s) {
     CullingOptions& k = o.culling;
     s.read("redundant_ratio", k.redundant_ratio);

@@ -19,7 +19,10 @@ struct WindowInputOptions {
   // residuals after BA on room_mav are 0.12 px median. Measured there (20 s): ATE 2.8 mm at
   // 0.3 px, 5.2 mm at 0.5, 9.6 mm at 1.0: too large a sigma lets the IMU bend the window.
   double pixel_sigma = 0.3;
-  double octave_scale = 1.2;            // ORB pyramid scale: sigma = pixel_sigma * scale^octave
+  double octave_scale = 1.2;  // ORB pyramid scale: sigma = pixel_sigma * scale^octave
+  // The same for the keypoints of points the mapper triangulated (mapper/new_points.h): ORB
+  // detections, not tracked to sub-pixel.
+  double new_point_pixel_sigma = 1.0;
   int64_t max_imu_gap_ns = 50'000'000;  // an interval with a longer IMU gap gets no IMU factor
   // Points farther than this from every optimised keyframe are held fixed (0: none). The
   // Mapper sets it from the calibration (MapperOptions::far_point_disparity_px).

@@ -132,6 +132,7 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"updates_published", s.updates_published},
       {"max_backlog", static_cast<int64_t>(s.max_backlog)},
       {"local_ba_runs", m.local_ba_runs},
+      {"new_points", m.new_points},
       {"culled_keyframes", m.culled_keyframes},
       {"removed_points", m.removed_points},
       {"imu_factors_skipped", m.imu_factors_skipped},

@@ -54,12 +54,12 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << " ms; CPU median " << time_stats(stats.ba_cpu_ms).median << " ms; "
     << mean(stats.ba_iterations) << " iterations; window " << mean(stats.window_keyframes)
     << " keyframes, " << mean(stats.window_points) << " points, " << mean(stats.window_observations)
-    << " reprojection terms), culled keyframes " << counters.culled_keyframes << ", removed points "
-    << counters.removed_points << ", IMU factors skipped (gaps) " << counters.imu_factors_skipped
-    << "; inertial refinements " << counters.inertial_refinements << " (not adopted "
-    << counters.inertial_refinements_rejected << ", median " << time_stats(stats.inertial_ms).median
-    << " ms); gravity " << gravity_tilt_rad(mapper.gravity_w()) * 180.0 / M_PI
-    << " deg from the tracker world's -z\n";
+    << " reprojection terms), new points " << counters.new_points << ", culled keyframes "
+    << counters.culled_keyframes << ", removed points " << counters.removed_points
+    << ", IMU factors skipped (gaps) " << counters.imu_factors_skipped << "; inertial refinements "
+    << counters.inertial_refinements << " (not adopted " << counters.inertial_refinements_rejected
+    << ", median " << time_stats(stats.inertial_ms).median << " ms); gravity "
+    << gravity_tilt_rad(mapper.gravity_w()) * 180.0 / M_PI << " deg from the tracker world's -z\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median
     << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
     << result.counters.corrections_ignored << ", stated jumps (new map id) "

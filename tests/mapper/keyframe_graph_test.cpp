@@ -90,6 +90,31 @@ TEST(KeyframeGraph, RemovingAKeyframeUpdatesWeightsAndDropsOrphanPoints) {
   EXPECT_EQ(g.point(6)->observations.size(), 1u);
 }
 
+TEST(KeyframeGraph, TheMappersOwnPointsTakeFreeKeypointsAndIdsOfTheirOwn) {
+  KeyframeGraph g;
+  g.insert(keyframe(0, -1, ids(0, 4)));  // keypoint 5 of each is free
+  g.insert(keyframe(1, 0, ids(3, 7)));
+  g.insert(keyframe(2, 1, ids(20, 21)));
+  ASSERT_EQ(g.shared_points(0, 1), 2);
+  ASSERT_EQ(g.shared_points(0, 2), 0);
+  const int64_t id = g.add_point(Eigen::Vector3d(1, 2, 3), {{0, 5}, {1, 5}, {2, 2}});
+  EXPECT_TRUE(mapper_made_point(id));
+  EXPECT_FALSE(mapper_made_point(7));
+  EXPECT_EQ(g.shared_points(0, 1), 3);
+  EXPECT_EQ(g.shared_points(0, 2), 1);
+  EXPECT_EQ(g.shared_points(1, 2), 1);
+  EXPECT_EQ(g.keyframe(1)->keypoints[5].point_id, id);
+  ASSERT_NE(g.point(id), nullptr);
+  EXPECT_EQ(g.point(id)->observations.size(), 3u);
+  EXPECT_EQ(g.point(id)->p_w, Eigen::Vector3d(1, 2, 3));
+  // A keypoint that sees a point already is refused, and nothing changes.
+  EXPECT_THROW(g.add_point(Eigen::Vector3d::Zero(), {{2, 0}, {0, 0}}), std::invalid_argument);
+  EXPECT_EQ(g.shared_points(0, 2), 1);
+  EXPECT_EQ(g.num_points(), 11u);
+  g.insert(keyframe(3, 2, {30}));
+  EXPECT_EQ(g.add_point(Eigen::Vector3d::Zero(), {{3, 1}}), id + 1) << "the failed call took no id";
+}
+
 TEST(KeyframeGraph, RemovingAPointUpdatesWeightsAndKeypoints) {
   KeyframeGraph g;
   g.insert(keyframe(0, -1, ids(0, 9)));

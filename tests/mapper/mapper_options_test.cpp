@@ -26,6 +26,10 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.ba.time_budget_ms, d.ba.time_budget_ms);
   EXPECT_EQ(c.mapper.culling.max_imu_span_ns, d.culling.max_imu_span_ns);
   EXPECT_EQ(c.mapper.far_point_disparity_px, d.far_point_disparity_px);
+  EXPECT_EQ(c.mapper.new_points.covisible_keyframes, d.new_points.covisible_keyframes);
+  EXPECT_EQ(c.mapper.new_points.max_hamming, d.new_points.max_hamming);
+  EXPECT_EQ(c.mapper.new_points.min_parallax_deg, d.new_points.min_parallax_deg);
+  EXPECT_EQ(c.mapper.window.new_point_pixel_sigma, d.window.new_point_pixel_sigma);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
@@ -45,6 +49,17 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_EQ(load_mapper_config(far.path()).mapper.far_point_disparity_px, 0.0);
   const TempYaml negative("mapper:\n  pixel_sigma: -1\n");
   expect_input_error([&] { load_mapper_config(negative.path()); }, {"pixel_sigma", ":2"});
+  const TempYaml new_points(
+      "mapper:\n  octave_scale: 1.5\nnew_points:\n  covisible_keyframes: 5\n  max_hamming: 40\n"
+      "  min_parallax_deg: 2\n  pixel_sigma: 0.8\n");
+  const MapperConfig n = load_mapper_config(new_points.path());
+  EXPECT_EQ(n.mapper.new_points.covisible_keyframes, 5u);
+  EXPECT_EQ(n.mapper.new_points.max_hamming, 40);
+  EXPECT_EQ(n.mapper.new_points.min_parallax_deg, 2.0);
+  EXPECT_EQ(n.mapper.new_points.octave_scale, 1.5) << "the pyramid's, from the mapper section";
+  EXPECT_EQ(n.mapper.window.new_point_pixel_sigma, 0.8);
+  const TempYaml bad_ratio("new_points:\n  ratio: 1.5\n");
+  expect_input_error([&] { load_mapper_config(bad_ratio.path()); }, {"new_points", "range"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
   expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
 }

@@ -77,6 +77,44 @@ TEST(Mapper, EachKeyframeGivesACorrectionOfItsWindow) {
   EXPECT_EQ(mapper.counters().local_ba_runs, 2);
 }
 
+// consistent_keyframe plus free keypoints (no tracker point) where points `free` project, each
+// with its point's descriptor.
+MapperKeyframe with_free_keypoints(MapperKeyframe kf, const std::vector<int64_t>& free) {
+  const StereoCalib calib = euroc_stereo_calib();
+  const Eigen::Isometry3d T_c0_w = (kf.state.T_w_b() * calib.cam0.T_b_c).inverse();
+  for (int64_t k : free) {
+    Eigen::Vector2d uv;
+    if (!calib.cam0.intrinsics.project(T_c0_w * point_w(k), &uv)) continue;
+    MapperKeypoint kp;
+    kp.u = static_cast<float>(uv.x());
+    kp.v = static_cast<float>(uv.y());
+    kf.keypoints.push_back(kp);
+    const std::vector<uint8_t> d = test::point_descriptor(k);
+    std::copy(d.begin(), d.end(), kf.descriptors.emplace_back().begin());
+  }
+  return kf;
+}
+
+TEST(Mapper, ItsOwnPointsJoinTheBundleAdjustmentButNotTheCorrection) {
+  MapperOptions options;
+  options.new_points.covisible_keyframes = 10;
+  Mapper mapper(euroc_stereo_calib(), options);
+  const std::vector<int64_t> free = ids(40, 59);
+  mapper.add_keyframe(with_free_keypoints(consistent_keyframe(0, -1, ids(0, 9)), free));
+  // 0.5 m on (keyframe ids are 0.1 m apart): parallax for the free points 4-6 m away.
+  const MapperStep step =
+      mapper.add_keyframe(with_free_keypoints(consistent_keyframe(5, 0, ids(0, 9)), free));
+  EXPECT_EQ(step.new_points, static_cast<int>(free.size()));
+  EXPECT_EQ(mapper.counters().new_points, static_cast<int64_t>(free.size()));
+  EXPECT_EQ(step.window_points, 10 + static_cast<int>(free.size()));
+  EXPECT_EQ(step.ba.num_outliers, 0);
+  ASSERT_TRUE(step.correction);
+  // The tracker hears only of its own points.
+  ASSERT_EQ(step.correction->points.size(), 10u);
+  for (const PointCorrection& p : step.correction->points) EXPECT_FALSE(mapper_made_point(p.id));
+  EXPECT_EQ(mapper.graph().shared_points(0, 5), 10 + static_cast<int>(free.size()));
+}
+
 TEST(Mapper, PointFailingTheBundleAdjustmentIsRemovedAndListed) {
   Mapper mapper(euroc_stereo_calib(), MapperOptions{});
   std::vector<int64_t> removed;
