@@ -93,16 +93,16 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
     : options_(options),
       input_(input),
       index_(index),
-      pose_(input.keyframes.size()),
-      speed_bias_(input.keyframes.size()),
+      storage_(input.keyframes.size() * kKeyframeSize + 3 + 3 * input.points.size()),
       huber_(std::sqrt(options.chi2_threshold)),
       problem_(borrowing_problem_options()) {
   for (size_t k = 0; k < input.keyframes.size(); ++k) {
-    state_to_blocks(input.keyframes[k].state, pose_[k].data(), speed_bias_[k].data());
-    problem_.AddParameterBlock(pose_[k].data(), kPoseSize, &pose_manifold_);
+    state_to_blocks(input.keyframes[k].state, pose(k), speed_bias(k));
+    problem_.AddParameterBlock(pose(k), kPoseSize, &pose_manifold_);
   }
-  for (const BaPoint& pt : input.points) point_.push_back({pt.p_w.x(), pt.p_w.y(), pt.p_w.z()});
-  Eigen::Map<Eigen::Vector3d>(gravity_.data()) = input.gravity.g_w;
+  for (size_t k = 0; k < input.points.size(); ++k)
+    Eigen::Map<Eigen::Vector3d>{point(k)} = input.points[k].p_w;
+  Eigen::Map<Eigen::Vector3d>{gravity_block()} = input.gravity.g_w;
   add_visual_terms(calib);
   add_inertial_terms();
   fix_gauge();
@@ -119,13 +119,12 @@ void LocalBaProblem::add_visual_terms(const StereoCalib& calib) {
     reprojection_[k] = std::make_unique<ReprojectionCost>(cameras[obs.camera], obs.uv, obs.sigma_px,
                                                           options_.min_depth_m);
     if (!std::isfinite(chi2(k))) continue;
-    reprojection_block_[k] = problem_.AddResidualBlock(reprojection_[k].get(), &huber_,
-                                                       pose_[index_.obs_keyframe[k]].data(),
-                                                       point_[index_.obs_point[k]].data());
+    reprojection_block_[k] = problem_.AddResidualBlock(
+        reprojection_[k].get(), &huber_, pose(index_.obs_keyframe[k]), point(index_.obs_point[k]));
   }
   for (size_t k = 0; k < input_.points.size(); ++k) {
-    if (input_.points[k].fixed && problem_.HasParameterBlock(point_[k].data())) {
-      problem_.SetParameterBlockConstant(point_[k].data());
+    if (input_.points[k].fixed && problem_.HasParameterBlock(point(k))) {
+      problem_.SetParameterBlockConstant(point(k));
     }
   }
 }
@@ -134,23 +133,21 @@ void LocalBaProblem::add_inertial_terms() {
   if (input_.imu_factors.empty()) return;
   const BaGravity& gravity = input_.gravity;
   if (gravity.prior_sigma_rad > 0.0) {
-    problem_.AddParameterBlock(gravity_.data(), 3, &gravity_manifold_);
+    problem_.AddParameterBlock(gravity_block(), 3, &gravity_manifold_);
     inertial_.push_back(std::make_unique<GravityPriorCost>(gravity.g_w, gravity.prior_sigma_rad));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, gravity_.data());
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, gravity_block());
   } else {
-    problem_.AddParameterBlock(gravity_.data(), 3);
-    problem_.SetParameterBlockConstant(gravity_.data());
+    problem_.AddParameterBlock(gravity_block(), 3);
+    problem_.SetParameterBlockConstant(gravity_block());
   }
   for (size_t k = 0; k < input_.imu_factors.size(); ++k) {
     const auto [i, j] = index_.imu_pairs[k];
     const ImuPreintegration& pim = input_.imu_factors[k].pim;
     inertial_.push_back(std::make_unique<ImuCost>(pim));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, pose_[i].data(),
-                              speed_bias_[i].data(), pose_[j].data(), speed_bias_[j].data(),
-                              gravity_.data());
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, pose(i), speed_bias(i), pose(j),
+                              speed_bias(j), gravity_block());
     inertial_.push_back(std::make_unique<BiasWalkCost>(pim));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, speed_bias_[i].data(),
-                              speed_bias_[j].data());
+    problem_.AddResidualBlock(inertial_.back().get(), nullptr, speed_bias(i), speed_bias(j));
   }
 }
 
@@ -160,16 +157,16 @@ void LocalBaProblem::fix_gauge() {
   for (size_t k = 0; k < kfs.size(); ++k) {
     if (!kfs[k].fixed && !kfs[k].pose_fixed) continue;
     any_fixed = true;
-    problem_.SetParameterBlockConstant(pose_[k].data());
-    if (kfs[k].fixed && problem_.HasParameterBlock(speed_bias_[k].data())) {
-      problem_.SetParameterBlockConstant(speed_bias_[k].data());
+    problem_.SetParameterBlockConstant(pose(k));
+    if (kfs[k].fixed && problem_.HasParameterBlock(speed_bias(k))) {
+      problem_.SetParameterBlockConstant(speed_bias(k));
     }
   }
   if (any_fixed || kfs.empty()) return;
   const auto oldest = std::min_element(
       kfs.begin(), kfs.end(),
       [](const BaKeyframe& a, const BaKeyframe& b) { return a.state.t_ns < b.state.t_ns; });
-  problem_.SetParameterBlockConstant(pose_[static_cast<size_t>(oldest - kfs.begin())].data());
+  problem_.SetParameterBlockConstant(pose(static_cast<size_t>(oldest - kfs.begin())));
 }
 
 void LocalBaProblem::configure_solver() {
@@ -184,7 +181,7 @@ void LocalBaProblem::configure_solver() {
   problem_.GetParameterBlocks(&blocks);
   bool has_points = false;
   for (double* block : blocks) {
-    const bool is_point = problem_.ParameterBlockSize(block) == 3 && block != gravity_.data();
+    const bool is_point = problem_.ParameterBlockSize(block) == 3 && block != gravity_block();
     has_points = has_points || is_point;
     ordering->AddElementToGroup(block, is_point ? 0 : 1);
   }
@@ -227,8 +224,7 @@ ceres::Solver::Summary LocalBaProblem::solve(double cpu_deadline_s) {
 }
 
 double LocalBaProblem::chi2(size_t k) const {
-  const double* parameters[2] = {pose_[index_.obs_keyframe[k]].data(),
-                                 point_[index_.obs_point[k]].data()};
+  const double* parameters[2] = {pose(index_.obs_keyframe[k]), point(index_.obs_point[k])};
   Eigen::Vector2d r;
   if (!reprojection_[k]->Evaluate(parameters, r.data(), nullptr)) {
     return std::numeric_limits<double>::infinity();
@@ -247,14 +243,14 @@ void LocalBaProblem::drop_outliers(double chi2_threshold) {
 
 void LocalBaProblem::estimate(std::vector<BaKeyframe>* keyframes, std::vector<BaPoint>* points,
                               Eigen::Vector3d* g_w) const {
-  *g_w = Eigen::Map<const Eigen::Vector3d>(gravity_.data());
+  *g_w = Eigen::Map<const Eigen::Vector3d>(gravity_block());
   *keyframes = input_.keyframes;
   for (size_t k = 0; k < keyframes->size(); ++k) {
-    blocks_to_state(pose_[k].data(), speed_bias_[k].data(), &(*keyframes)[k].state);
+    blocks_to_state(pose(k), speed_bias(k), &(*keyframes)[k].state);
   }
   *points = input_.points;
   for (size_t k = 0; k < points->size(); ++k) {
-    (*points)[k].p_w = Eigen::Map<const Eigen::Vector3d>(point_[k].data());
+    (*points)[k].p_w = Eigen::Map<const Eigen::Vector3d>(point(k));
   }
 }
 

@@ -56,10 +56,21 @@ class LocalBaProblem {
   const LocalBaOptions& options_;
   const LocalBaInput& input_;
   const LocalBaIndex& index_;
-  std::vector<std::array<double, kPoseSize>> pose_;
-  std::vector<std::array<double, kSpeedBiasSize>> speed_bias_;
-  std::vector<std::array<double, 3>> point_;
-  std::array<double, 3> gravity_{};
+  // Every parameter block in one buffer: keyframe k's pose and speed/bias, then gravity, then
+  // the points. Ceres orders the blocks of a Schur group by address, so their addresses must
+  // follow the input's order for a run to be repeatable (separate buffers' relative addresses
+  // change with the heap, and with them the rounding of the solve).
+  static constexpr size_t kKeyframeSize = kPoseSize + kSpeedBiasSize;
+  double* pose(size_t k) { return storage_.data() + k * kKeyframeSize; }
+  const double* pose(size_t k) const { return storage_.data() + k * kKeyframeSize; }
+  double* speed_bias(size_t k) { return pose(k) + kPoseSize; }
+  const double* speed_bias(size_t k) const { return pose(k) + kPoseSize; }
+  double* gravity_block() { return pose(input_.keyframes.size()); }
+  const double* gravity_block() const { return pose(input_.keyframes.size()); }
+  double* point(size_t k) { return gravity_block() + 3 + 3 * k; }
+  const double* point(size_t k) const { return gravity_block() + 3 + 3 * k; }
+
+  std::vector<double> storage_;
   // The problem borrows the cost functions, loss and manifold, so that removed residual blocks
   // can still be evaluated for the final outlier flags.
   PoseManifold pose_manifold_;
