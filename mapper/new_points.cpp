@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include "common/geometry/triangulation.h"
+#include "common/imu/so3.h"
 
 namespace hs {
 namespace {
@@ -29,29 +33,12 @@ View view_of(const MapperKeyframe& kf, const CameraCalib& cam) {
   return v;
 }
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& t) {
-  Eigen::Matrix3d m;
-  m << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
-  return m;
-}
-
-// The closest point between the two rays c_a + s f_a and c_b + s f_b (both s > 0), if any.
-bool midpoint(const Eigen::Vector3d& c_a, const Eigen::Vector3d& f_a, const Eigen::Vector3d& c_b,
-              const Eigen::Vector3d& f_b, Eigen::Vector3d* p_w) {
-  Eigen::Matrix<double, 3, 2> A;
-  A << f_a, -f_b;
-  const Eigen::Vector2d s = (A.transpose() * A).ldlt().solve(A.transpose() * (c_b - c_a));
-  if (!(s.x() > 0 && s.y() > 0)) return false;
-  *p_w = 0.5 * (c_a + s.x() * f_a + c_b + s.y() * f_b);
-  return true;
-}
-
 class PairTriangulator {
  public:
   PairTriangulator(const View& a, const View& b, const PinholeRadtan& cam, const NewPointOptions& o)
       : a_(a), b_(b), cam_(cam), o_(o) {
     const Eigen::Isometry3d T_b_a = b.T_w_c.inverse() * a.T_w_c;
-    E_ = skew(T_b_a.translation()) * T_b_a.linear();  // f_b' E f_a = 0
+    E_ = so3::hat(T_b_a.translation()) * T_b_a.linear();  // f_b' E f_a = 0
     min_cos_ = std::cos(o.min_parallax_deg * M_PI / 180.0);
   }
 
@@ -86,8 +73,11 @@ class PairTriangulator {
   }
 
   bool triangulate(const FreeKeypoint& ka, const FreeKeypoint& kb, Eigen::Vector3d* p_w) const {
-    if (!midpoint(a_.T_w_c.translation(), ka.f_w, b_.T_w_c.translation(), kb.f_w, p_w))
-      return false;
+    const std::optional<Eigen::Vector3d> p_a =
+        triangulate_two_view(ka.f_c.head<2>() / ka.f_c.z(), kb.f_c.head<2>() / kb.f_c.z(),
+                             a_.T_w_c.inverse() * b_.T_w_c);
+    if (!p_a) return false;
+    *p_w = a_.T_w_c * *p_a;
     const MapperKeypoint& pa = a_.kf->keypoints[static_cast<size_t>(ka.index)];
     const MapperKeypoint& pb = b_.kf->keypoints[static_cast<size_t>(kb.index)];
     if (!reprojects(a_, pa, *p_w) || !reprojects(b_, pb, *p_w)) return false;
