@@ -7,7 +7,11 @@
 namespace hs {
 
 Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
-    : options_(options), calib_(calib), graph_(options.graph), ba_(calib, options.ba) {
+    : options_(options),
+      calib_(calib),
+      graph_(options.graph),
+      ba_(calib, options.ba),
+      loops_(calib, options.loop) {
   if (options_.far_point_disparity_px > 0)
     options_.window.fixed_point_distance_m =
         calib.cam0.intrinsics.fx * calib.baseline() / options_.far_point_disparity_px;
@@ -82,9 +86,11 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
     if (!mapper_made_point(p.id)) c.points.push_back({p.id, p.p_w});  // the tracker's only
   }
 
+  if (options_.loop.enabled) detect_loop(id, step);
   if (options_.cull_keyframes) {
     for (int64_t k : redundant_keyframes(graph_, window.keyframes, options_.culling)) {
       graph_.remove_keyframe(k);
+      loops_.remove(k);
       ++counters_.culled_keyframes;
     }
   }
@@ -92,6 +98,18 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   c.seq = next_seq_++;
   step.correction = std::move(c);
   return step;
+}
+
+void Mapper::detect_loop(int64_t id, MapperStep& step) {
+  LoopQueryStats stats;
+  step.loop = loops_.detect(graph_, id, &stats);
+  ++counters_.loop_queries;
+  counters_.places_verified += stats.verified;
+  counters_.places_implausible += stats.implausible;
+  counters_.places_unconfirmed += stats.unconfirmed;
+  if (step.loop) ++counters_.loops_detected;
+  if (!stats.message.empty()) step.message += (step.message.empty() ? "" : "; ") + stats.message;
+  step.loop_query = stats;
 }
 
 void Mapper::refine_inertial(int64_t newest, MapperStep& step) {

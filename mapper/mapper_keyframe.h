@@ -2,13 +2,12 @@
 // Plain data of a keyframe as the mapper holds it (see keyframe_from_msg.h for the checks).
 #include <Eigen/Core>
 #include <array>
-#include <bitset>
 #include <cstdint>
-#include <cstring>
 #include <unordered_map>
 #include <vector>
 
 #include "common/core/types.h"
+#include "common/features/descriptor_match.h"
 
 namespace hs {
 
@@ -16,14 +15,7 @@ using Descriptor = std::array<uint8_t, 32>;  // ORB, 256 bits
 
 // Hamming distance between two descriptors (0..256).
 inline int hamming_distance(const Descriptor& a, const Descriptor& b) {
-  int d = 0;
-  for (size_t i = 0; i < a.size(); i += 8) {
-    uint64_t x = 0, y = 0;
-    std::memcpy(&x, a.data() + i, 8);
-    std::memcpy(&y, b.data() + i, 8);
-    d += static_cast<int>(std::bitset<64>(x ^ y).count());
-  }
-  return d;
+  return hamming256(a.data(), b.data());
 }
 
 struct MapperKeypoint {

@@ -95,6 +95,31 @@ MapperConfig load_mapper_config(const std::string& path) {
     k.keep_recent = static_cast<size_t>(keep);
     s.read_seconds("max_imu_span_s", k.max_imu_span_ns);
   });
+  top.section("loop", [&](ConfigSection& s) {
+    LoopDetectionOptions& l = o.loop;
+    s.read("enabled", l.enabled);
+    s.read("index_tables", l.index.tables);
+    int candidates = static_cast<int>(l.candidates);
+    s.read("candidates", candidates);
+    s.read("min_age_s", l.min_age_s);
+    s.read("max_hamming", l.verify.max_hamming);
+    s.read("ratio", l.verify.ratio);
+    s.read("min_inliers", l.verify.min_inliers);
+    s.read("drift_base_m", l.drift_base_m);
+    s.read("drift_per_m", l.drift_per_m);
+    s.read_degrees("drift_base_deg", l.drift_base_rad);
+    s.read_degrees("drift_deg_per_m", l.drift_rad_per_m);
+    s.read_degrees("max_tilt_deg", l.max_tilt_rad);
+    s.read("consistent", l.consistent);
+    if (l.index.tables < 1 || l.index.tables > 16 || candidates < 1 || !(l.min_age_s >= 0) ||
+        l.verify.max_hamming < 0 || l.verify.max_hamming > 256 ||
+        !(l.verify.ratio > 0 && l.verify.ratio <= 1) || l.verify.min_inliers < 6 ||
+        !(l.drift_base_m >= 0) || !(l.drift_per_m >= 0) || !(l.drift_base_rad >= 0) ||
+        !(l.drift_rad_per_m >= 0) || !(l.max_tilt_rad >= 0) || l.consistent < 1)
+      s.fail("enabled", "loop options out of range");
+    l.candidates = static_cast<size_t>(candidates);
+    l.verify.octave_scale = o.window.octave_scale;
+  });
   read_process_tail(top, c.heartbeat_period_ns, c.channels);
   return c;
 }

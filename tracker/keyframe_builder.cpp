@@ -6,7 +6,7 @@
 #include <numeric>
 #include <optional>
 
-#include "tracker/descriptor_match.h"
+#include "common/features/descriptor_match.h"
 
 namespace hs {
 

@@ -1,10 +1,9 @@
 #include "tracker/relocaliser.h"
 
 #include <algorithm>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 
-#include "tracker/descriptor_match.h"
+#include "common/features/descriptor_match.h"
+#include "common/geometry/pnp.h"
 
 namespace hs {
 
@@ -51,35 +50,21 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
   }
 
   const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
-  std::vector<cv::Point3f> obj;
-  std::vector<cv::Point2f> img;
+  std::vector<Eigen::Vector3d> obj;
+  std::vector<Eigen::Vector2d> img;
   for (const auto& [q, t] : pairs) {
     const cv::Point2f& pt = current.keypoints[q].pt;
-    const Eigen::Vector2d xy = cam.unproject_normalised(Eigen::Vector2d(pt.x, pt.y));
-    obj.emplace_back(static_cast<float>(p_w[t].x()), static_cast<float>(p_w[t].y()),
-                     static_cast<float>(p_w[t].z()));
-    img.emplace_back(static_cast<float>(xy.x()), static_cast<float>(xy.y()));
+    obj.push_back(p_w[t]);
+    img.push_back(cam.unproject_normalised(Eigen::Vector2d(pt.x, pt.y)));
   }
-  cv::Mat rvec, tvec;
-  std::vector<int> ransac_inliers;
-  const double thresh = 3.0 / cam.fx;  // 3 px in normalised coordinates
-  const bool solved =
-      cv::solvePnPRansac(obj, img, cv::Mat::eye(3, 3, CV_64F), cv::Mat(), rvec, tvec, false, 200,
-                         static_cast<float>(thresh), 0.99, ransac_inliers, cv::SOLVEPNP_EPNP);
-  if (!solved || ransac_inliers.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
-    r.message = "PnP found " + std::to_string(ransac_inliers.size()) + " inliers";
+  PnpOptions pnp;
+  pnp.threshold = 3.0 / cam.fx;
+  const PnpResult solved = solve_pnp_ransac(obj, img, pnp);
+  if (!solved.ok || solved.inliers.size() < static_cast<size_t>(options_.reloc_min_inliers)) {
+    r.message = "PnP found " + std::to_string(solved.inliers.size()) + " inliers";
     return r;
   }
-  cv::Mat R_cv;
-  cv::Rodrigues(rvec, R_cv);
-  Eigen::Matrix3d R_c_w;
-  Eigen::Vector3d t_c_w;
-  cv::cv2eigen(R_cv, R_c_w);
-  cv::cv2eigen(tvec, t_c_w);
-  Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
-  T_c_w.linear() = R_c_w;
-  T_c_w.translation() = t_c_w;
-  const Eigen::Isometry3d T_w_b = T_c_w.inverse() * options_.calib.cam0.T_b_c.inverse();
+  const Eigen::Isometry3d T_w_b = solved.T_c_a.inverse() * options_.calib.cam0.T_b_c.inverse();
 
   NavState start = guess;
   start.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();

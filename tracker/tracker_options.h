@@ -6,8 +6,8 @@
 
 #include "common/calib/camera_calib.h"
 #include "common/config/channels.h"
+#include "common/features/descriptor_match.h"
 #include "common/imu/imu_options.h"
-#include "tracker/descriptor_match.h"
 #include "tracker/direct_options.h"
 #include "tracker/imu_buffer.h"
 #include "tracker/keyframe_policy.h"

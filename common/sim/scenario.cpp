@@ -85,6 +85,7 @@ void read_world(ConfigSection& s, WorldSpec& w) {
   read_positive(s, "pole_spacing_m", w.pole_spacing_m);
   read_positive(s, "parked_spacing_m", w.parked_spacing_m);
   read_non_negative(s, "clearance_m", w.clearance_m);
+  read_non_negative(s, "repeat_x_m", w.repeat_x_m);
   const std::vector<double> boxes = read_groups(s, "boxes", 7, false);
   for (size_t i = 0; i < boxes.size(); i += 7) {
     BoxSpec b;

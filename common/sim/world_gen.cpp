@@ -186,6 +186,28 @@ void build_street(const WorldSpec& spec, const std::vector<Eigen::Vector3d>& pat
   }
 }
 
+// Keeps what lies (by centre) in the first period of x and copies it along the whole street.
+void repeat_along_x(const WorldSpec& spec, World* world) {
+  const double x0 = spec.street_min_m.x(), period = spec.repeat_x_m;
+  const auto in_first = [&](const Eigen::Vector3d& c) { return c.x() < x0 + period; };
+  World first;
+  for (const TexturedQuad& q : world->quads)
+    if (in_first(q.p0_w + 0.5 * (q.edge_u_w + q.edge_v_w))) first.quads.push_back(q);
+  for (const SolidBox& b : world->solids)
+    if (in_first(b.T_w_box.translation())) first.solids.push_back(b);
+  *world = first;
+  for (double shift = period; x0 + shift < spec.street_max_m.x(); shift += period) {
+    for (TexturedQuad q : first.quads) {
+      q.p0_w.x() += shift;
+      world->quads.push_back(q);
+    }
+    for (SolidBox b : first.solids) {
+      b.T_w_box.translation().x() += shift;
+      world->solids.push_back(b);
+    }
+  }
+}
+
 bool in_any(const std::vector<Eigen::AlignedBox3d>& regions, const Eigen::Vector3d& p) {
   for (const Eigen::AlignedBox3d& r : regions)
     if (r.contains(p)) return true;
@@ -231,6 +253,7 @@ World generate_world(const WorldSpec& spec, const std::vector<Eigen::Vector3d>& 
     build_room(spec, placer, rng, &world);
   } else {
     build_street(spec, path_w, placer, rng, &world);
+    if (spec.repeat_x_m > 0) repeat_along_x(spec, &world);
   }
   for (TexturedQuad& q : world.quads)
     if (in_any(spec.textureless_regions, q.p0_w + 0.5 * (q.edge_u_w + q.edge_v_w)))

@@ -32,6 +32,9 @@ struct WorldSpec {
   double parked_spacing_m = 18.0;
   // Both: the smallest distance between the path and any solid.
   double clearance_m = 0.4;
+  // Street: the content repeats along x with this period (0: never), every copy alike to the
+  // texel: a look-alike street where a place recogniser must not close a loop.
+  double repeat_x_m = 0.0;
   std::vector<BoxSpec> boxes;
   // Surfaces whose centre lies in one of these are drawn textureless (kPlain).
   std::vector<Eigen::AlignedBox3d> textureless_regions;

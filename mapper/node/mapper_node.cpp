@@ -136,6 +136,8 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"culled_keyframes", m.culled_keyframes},
       {"removed_points", m.removed_points},
       {"imu_factors_skipped", m.imu_factors_skipped},
+      {"loops_detected", m.loops_detected},
+      {"places_implausible", m.places_implausible},
       {"duplicate_keyframes", g.duplicates},
       {"out_of_order_keyframes", g.out_of_order},
       {"missing_previous_keyframes", g.missing_prev},

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "common/core/atomic_file.h"
 #include "mapper/keyframe_from_msg.h"
 #include "tracker/offline/run_report.h"
 
@@ -13,6 +14,8 @@ namespace hs {
 
 void MapperRunStats::add(const MapperStep& step) {
   if (step.inertial) inertial_ms.push_back(step.inertial->time_ms);
+  if (step.loop_query) loop_query_ms.push_back(step.loop_query->time_ms);
+  if (step.loop) loops.push_back(*step.loop);
   if (step.ba.rounds == 0) return;
   ba_ms.push_back(step.ba.time_ms);
   ba_cpu_ms.push_back(step.ba.cpu_ms);
@@ -31,6 +34,21 @@ BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose)
     if (step.correction) out.push_back(std::move(*step.correction));
     return out;
   };
+}
+
+void write_loops_csv(const std::string& path, const MapperRunStats& stats) {
+  std::ostringstream o;
+  o << "# query_t_ns,candidate_t_ns,x,y,z,qx,qy,qz,qw,inliers,path_m,correction_m,correction_deg\n";
+  o.precision(9);
+  for (const LoopFound& l : stats.loops) {
+    const Eigen::Quaterniond q(l.T_c_q.linear());
+    const Eigen::Vector3d& t = l.T_c_q.translation();
+    o << l.query_t_ns << "," << l.candidate_t_ns << "," << t.x() << "," << t.y() << "," << t.z()
+      << "," << q.x() << "," << q.y() << "," << q.z() << "," << q.w() << "," << l.inliers << ","
+      << l.path_m << "," << l.drift.translation().norm() << ","
+      << Eigen::AngleAxisd(l.drift.linear()).angle() * 180.0 / M_PI << "\n";
+  }
+  write_file_atomically(path, o.str());
 }
 
 std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
@@ -60,6 +78,12 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << counters.inertial_refinements << " (not adopted " << counters.inertial_refinements_rejected
     << ", median " << time_stats(stats.inertial_ms).median << " ms); gravity "
     << gravity_tilt_rad(mapper.gravity_w()) * 180.0 / M_PI << " deg from the tracker world's -z\n";
+  o << "loops: " << counters.loops_detected << " detected in " << counters.loop_queries
+    << " queries (places verified " << counters.places_verified << ", implausible drift "
+    << counters.places_implausible << ", neighbourhood disagreed " << counters.places_unconfirmed
+    << "; query median " << time_stats(stats.loop_query_ms).median << " ms, p95 "
+    << time_stats(stats.loop_query_ms).p95 << " ms; index " << mapper.loop_index_bytes() / 1e6
+    << " MB)\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median
     << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
     << result.counters.corrections_ignored << ", stated jumps (new map id) "

@@ -14,12 +14,18 @@ struct MapperRunStats {
   std::vector<double> ba_cpu_ms;    // its thread CPU time
   std::vector<double> inertial_ms;  // per inertial refinement
   std::vector<double> window_keyframes, window_points, window_observations, ba_iterations;
+  std::vector<double> loop_query_ms;  // place index query + verification, per keyframe
+  std::vector<LoopFound> loops;
   void add(const MapperStep& step);
 };
 
 // Feeds each KEYFRAME message to `mapper` (decoded and validated as hs-mapper would) and returns
 // its correction; both must outlive the back end. Mapper messages go to stderr when verbose.
 BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose = false);
+
+// One line per detected loop: keyframe times, the measured T_c_q (x y z qx qy qz qw), inliers,
+// path since the candidate and the correction it implied.
+void write_loops_csv(const std::string& path, const MapperRunStats& stats);
 
 std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
                         const OfflineRunResult& result);

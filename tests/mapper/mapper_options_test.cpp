@@ -30,6 +30,14 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.new_points.max_hamming, d.new_points.max_hamming);
   EXPECT_EQ(c.mapper.new_points.min_parallax_deg, d.new_points.min_parallax_deg);
   EXPECT_EQ(c.mapper.window.new_point_pixel_sigma, d.window.new_point_pixel_sigma);
+  EXPECT_EQ(c.mapper.loop.enabled, d.loop.enabled);
+  EXPECT_EQ(c.mapper.loop.index.tables, d.loop.index.tables);
+  EXPECT_EQ(c.mapper.loop.candidates, d.loop.candidates);
+  EXPECT_EQ(c.mapper.loop.verify.min_inliers, d.loop.verify.min_inliers);
+  EXPECT_EQ(c.mapper.loop.drift_per_m, d.loop.drift_per_m);
+  EXPECT_NEAR(c.mapper.loop.drift_base_rad, d.loop.drift_base_rad, 1e-15);
+  EXPECT_NEAR(c.mapper.loop.max_tilt_rad, d.loop.max_tilt_rad, 1e-15);
+  EXPECT_EQ(c.mapper.loop.consistent, d.loop.consistent);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
@@ -60,6 +68,13 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_EQ(n.mapper.window.new_point_pixel_sigma, 0.8);
   const TempYaml bad_ratio("new_points:\n  ratio: 1.5\n");
   expect_input_error([&] { load_mapper_config(bad_ratio.path()); }, {"new_points", "range"});
+  const TempYaml loop("loop:\n  enabled: false\n  candidates: 5\n  drift_per_m: 0.01\n");
+  const MapperConfig l = load_mapper_config(loop.path());
+  EXPECT_FALSE(l.mapper.loop.enabled);
+  EXPECT_EQ(l.mapper.loop.candidates, 5u);
+  EXPECT_EQ(l.mapper.loop.drift_per_m, 0.01);
+  const TempYaml bad_loop("loop:\n  min_inliers: 3\n");
+  expect_input_error([&] { load_mapper_config(bad_loop.path()); }, {"loop", "range"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
   expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "common/core/error.h"
+#include "common/sim/dataset_gen.h"
 #include "common/sim/scenario.h"
 #include "scenario_test_util.h"
 
@@ -16,7 +17,7 @@ using testing::TempDir;
 
 const char* const kScenarios[] = {"room_mav",          "vehicle_loop",  "textureless",
                                   "illumination_step", "fast_rotation", "blackout",
-                                  "imu_gap",           "static"};
+                                  "imu_gap",           "static",        "lookalike_street"};
 
 TEST(ScenarioTest, AllShippedScenariosLoad) {
   for (const char* name : kScenarios) {
@@ -177,6 +178,30 @@ TEST(ScenarioTest, VehicleLoopIsClosedAndDrivenTwice) {
   EXPECT_LT(max_tilt * 180.0 / M_PI, 3.0);
   EXPECT_LT(max_z - min_z, 1e-9) << "planar";
   EXPECT_NEAR(min_z, 1.5, 1e-9) << "camera rig height";
+}
+
+// Every surface of the look-alike street has a twin 20 m further along x, the same to the texel,
+// as far as the street goes.
+TEST(ScenarioTest, LookalikeStreetRepeatsEvery20m) {
+  const Scenario sc = load_scenario(scenario_path("lookalike_street"));
+  ASSERT_EQ(sc.world.repeat_x_m, 20.0);
+  const DatasetGenerator gen(sc);
+  const std::vector<TexturedQuad>& quads = gen.world().quads;
+  const auto twin = [&](const TexturedQuad& q) {
+    for (const TexturedQuad& o : quads)
+      if ((o.p0_w - q.p0_w - Eigen::Vector3d(20, 0, 0)).norm() < 1e-9 && o.edge_u_w == q.edge_u_w &&
+          o.edge_v_w == q.edge_v_w && o.texture == q.texture && o.texture_seed == q.texture_seed &&
+          o.texture_offset == q.texture_offset && o.brightness == q.brightness)
+        return true;
+    return false;
+  };
+  int checked = 0;
+  for (const TexturedQuad& q : quads) {
+    if (q.p0_w.x() + 20.0 > sc.world.street_max_m.x() - 30.0) continue;  // the last copies
+    EXPECT_TRUE(twin(q)) << "quad at " << q.p0_w.transpose();
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
 }
 
 double max_rate_deg(const Trajectory& tr, double duration_s) {

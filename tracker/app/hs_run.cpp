@@ -97,7 +97,10 @@ int main(int argc, char** argv) {
     const hs::OfflineRunResult result = hs::run_offline(options, source, run_options);
     std::filesystem::create_directories(out_dir);
     std::cout << hs::write_run_outputs(out_dir, result);
-    if (mapper) std::cout << hs::mapper_text(mapper_stats, *mapper, result);
+    if (mapper) {
+      hs::write_loops_csv(out_dir + "/loops.csv", mapper_stats);
+      std::cout << hs::mapper_text(mapper_stats, *mapper, result);
+    }
   } catch (const std::exception& e) {
     std::cerr << "hs-run: " << e.what() << "\n";
     return 1;

@@ -1,4 +1,4 @@
-#include "tracker/descriptor_match.h"
+#include "common/features/descriptor_match.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,149 @@
+#include "mapper/loop_detector.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <unordered_set>
+
+#include "common/features/descriptor_match.h"
+
+namespace hs {
+namespace {
+
+double rotation_rad(const Eigen::Isometry3d& T) {
+  return Eigen::AngleAxisd(T.linear()).angle();
+}
+
+// How far a rotation turns the vertical: its roll/pitch part.
+double tilt_rad(const Eigen::Matrix3d& R) {
+  return std::acos(std::clamp((R * Eigen::Vector3d::UnitZ()).z(), -1.0, 1.0));
+}
+
+}  // namespace
+
+LoopDetector::LoopDetector(const StereoCalib& calib, const LoopDetectionOptions& options)
+    : calib_(calib), options_(options), index_(options.index) {}
+
+double LoopDetector::path_at(const KeyframeGraph& graph, int64_t id) {
+  if (const auto it = path_m_.find(id); it != path_m_.end()) return it->second;
+  const Eigen::Vector3d& p = graph.keyframe(id)->state.p_w_b;
+  WorldPath& w = world_path_[graph.world(id)];
+  if (w.last) w.length_m += (p - *w.last).norm();
+  w.last = p;
+  return path_m_[id] = w.length_m;
+}
+
+double LoopDetector::neighbourhood_share(const KeyframeGraph& graph, const MapperKeyframe& query,
+                                         const MapperKeyframe& candidate,
+                                         const Eigen::Isometry3d& T_c_q, int* projected) const {
+  std::vector<int64_t> keyframes =
+      graph.most_covisible(candidate.id, options_.neighbourhood_keyframes);
+  keyframes.push_back(candidate.id);
+  std::unordered_set<int64_t> points;
+  for (int64_t k : keyframes)
+    for (const MapperKeypoint& kp : graph.keyframe(k)->keypoints)
+      if (kp.point_id >= 0) points.insert(kp.point_id);
+  // World -> query cam0, through the candidate's pose and the measured relative pose.
+  const Eigen::Isometry3d T_q_w =
+      calib_.cam0.T_b_c.inverse() * T_c_q.inverse() * candidate.state.T_w_b().inverse();
+  const PinholeRadtan& K = calib_.cam0.intrinsics;
+  std::vector<Eigen::Vector2d> predicted;
+  cv::Mat descriptors(0, 32, CV_8U);
+  for (int64_t id : points) {
+    const MapperPoint* p = graph.point(id);
+    Eigen::Vector2d uv;
+    if (!p || !K.project(T_q_w * p->p_w, &uv)) continue;
+    predicted.push_back(uv);
+    descriptors.push_back(cv::Mat(1, 32, CV_8U, const_cast<uint8_t*>(p->descriptor.data())));
+  }
+  *projected = static_cast<int>(predicted.size());
+  if (predicted.empty()) return 0.0;
+  std::vector<Eigen::Vector2f> uv_q;
+  for (const MapperKeypoint& kp : query.keypoints) uv_q.emplace_back(kp.u, kp.v);
+  const KeypointGrid grid(uv_q, K.width, K.height);
+  DescriptorMatchOptions match;
+  match.max_distance = options_.verify.max_hamming;
+  match.ratio = static_cast<float>(options_.verify.ratio);
+  match.search_radius_px = options_.neighbourhood_radius_px;
+  const cv::Mat query_desc(static_cast<int>(query.descriptors.size()), 32, CV_8U,
+                           const_cast<uint8_t*>(query.descriptors.front().data()));
+  const std::vector<int> found =
+      match_by_projection(descriptors, predicted, query_desc, grid, match);
+  const auto matched = std::count_if(found.begin(), found.end(), [](int i) { return i >= 0; });
+  return static_cast<double>(matched) / static_cast<double>(predicted.size());
+}
+
+std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_t query,
+                                              LoopQueryStats* stats) {
+  LoopQueryStats local;
+  LoopQueryStats& st = stats ? *stats : local;
+  st = {};
+  const auto start = std::chrono::steady_clock::now();
+  const MapperKeyframe& q = *graph.keyframe(query);
+  const double path_q = path_at(graph, query);
+  const int32_t world = graph.world(query);
+  const int64_t min_age_ns = static_cast<int64_t>(options_.min_age_s * 1e9);
+  const auto exclude = [&](int64_t id) {
+    const MapperKeyframe* c = graph.keyframe(id);
+    return !c || graph.world(id) != world || q.state.t_ns - c->state.t_ns < min_age_ns ||
+           graph.shared_points(query, id) > 0;
+  };
+  const std::vector<PlaceCandidate> candidates =
+      index_.query(q.descriptors, options_.candidates, exclude);
+  index_.add(query, q.descriptors);
+  st.candidates = static_cast<int>(candidates.size());
+
+  std::optional<LoopFound> found;
+  for (const PlaceCandidate& pc : candidates) {
+    const MapperKeyframe& c = *graph.keyframe(pc.keyframe_id);
+    const PlaceMatch m = verify_place(q, c, calib_, options_.verify);
+    if (!m.ok) continue;
+    ++st.verified;
+    LoopFound loop{query,   c.id, q.state.t_ns, c.state.t_ns,
+                   m.T_c_q, {},   m.inliers,    path_q - path_at(graph, c.id)};
+    loop.drift = c.state.T_w_b() * m.T_c_q * q.state.T_w_b().inverse();
+    const double drift_m = (loop.drift * q.state.p_w_b - q.state.p_w_b).norm();
+    const double max_m = options_.drift_base_m + options_.drift_per_m * loop.path_m;
+    const double max_rad = options_.drift_base_rad + options_.drift_rad_per_m * loop.path_m;
+    char why[200];
+    std::snprintf(why, sizeof(why),
+                  "keyframe %ld matches keyframe %ld (%d inliers) with a correction of %.2f m "
+                  "(allowed %.2f), %.2f deg (allowed %.2f), tilt %.2f deg after %.1f m",
+                  static_cast<long>(query), static_cast<long>(c.id), m.inliers, drift_m, max_m,
+                  rotation_rad(loop.drift) * 180 / M_PI, max_rad * 180 / M_PI,
+                  tilt_rad(loop.drift.linear()) * 180 / M_PI, loop.path_m);
+    st.message = why;
+    if (drift_m > max_m || rotation_rad(loop.drift) > max_rad ||
+        tilt_rad(loop.drift.linear()) > options_.max_tilt_rad) {
+      ++st.implausible;
+      continue;
+    }
+    int projected = 0;
+    const double share = neighbourhood_share(graph, q, c, m.T_c_q, &projected);
+    st.message += "; its neighbourhood: " + std::to_string(static_cast<int>(share * 100)) +
+                  "% of " + std::to_string(projected) + " points found";
+    if (share < options_.min_neighbourhood_share) {
+      ++st.unconfirmed;
+      continue;
+    }
+    found = loop;
+    break;
+  }
+  // The streak continues when this keyframe's loop implies the same world correction.
+  if (found && streak_) {
+    const Eigen::Isometry3d change = streak_->drift.inverse() * found->drift;
+    const bool agrees = change.translation().norm() <= options_.consistency_m &&
+                        rotation_rad(change) <= options_.consistency_rad;
+    streak_length_ = agrees ? streak_length_ + 1 : 1;
+  } else {
+    streak_length_ = found ? 1 : 0;
+  }
+  streak_ = found;
+  st.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!found || streak_length_ < options_.consistent) return std::nullopt;
+  st.message = "loop: " + st.message;
+  return found;
+}
+
+}  // namespace hs

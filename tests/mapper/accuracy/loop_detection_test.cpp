@@ -1,0 +1,80 @@
+// Loop detection in the mapper on simulated drives, checked against the simulator's ground truth:
+// the second lap of vehicle_loop is recognised with relative poses at the centimetre, and the
+// look-alike street (everything repeats every 20 m) closes nothing although its places verify.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <limits>
+
+#include "mapper/mapper.h"
+#include "mapper/offline/mapper_report.h"
+
+namespace hs {
+namespace {
+
+struct LoopRun {
+  MapperRunStats stats;
+  MapperCounters counters;
+  std::vector<NavState> ground_truth;
+};
+
+LoopRun run(const std::string& name, double duration_s) {
+  sim::Scenario s = sim::load_scenario(HS_SOURCE_DIR "/config/sim/" + name + ".yaml");
+  s.duration_s = duration_s;
+  TrackerOptions options;
+  options.calib = s.camera.calib;
+  MapperOptions mapper_options;
+  mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
+  Mapper mapper(options.calib, mapper_options);
+  LoopRun out;
+  OfflineRunOptions run_options;
+  run_options.back_end = in_process_back_end(mapper, out.stats);
+  sim::DatasetGenerator gen(s);
+  out.ground_truth = run_offline(options, sim_source(gen), run_options).ground_truth;
+  out.counters = mapper.counters();
+  return out;
+}
+
+const NavState& truth_at(const std::vector<NavState>& gt, int64_t t_ns) {
+  const auto it = std::lower_bound(gt.begin(), gt.end(), t_ns,
+                                   [](const NavState& s, int64_t t) { return s.t_ns < t; });
+  if (it == gt.end() || it->t_ns != t_ns) throw std::runtime_error("no ground truth at a keyframe");
+  return *it;
+}
+
+// The car drives its 190 m block twice; the second lap starts at 52 s. Measured: 314 loops from
+// 634 keyframes over the full 102 s, none off by more than 1.9 cm / 0.1 deg.
+TEST(LoopDetection, TheSecondLapOfVehicleLoopIsRecognisedAtTheCentimetre) {
+  const LoopRun r = run("vehicle_loop", 62.0);
+  EXPECT_GE(r.counters.loops_detected, 25);
+  double worst_m = 0, worst_deg = 0;
+  for (const LoopFound& l : r.stats.loops) {
+    const Eigen::Isometry3d T_c_q = truth_at(r.ground_truth, l.candidate_t_ns).T_w_b().inverse() *
+                                    truth_at(r.ground_truth, l.query_t_ns).T_w_b();
+    const double err_m = (l.T_c_q.translation() - T_c_q.translation()).norm();
+    const double err_deg =
+        Eigen::AngleAxisd(l.T_c_q.linear().transpose() * T_c_q.linear()).angle() * 180 / M_PI;
+    EXPECT_LT(err_m, 0.05) << "keyframe at " << l.query_t_ns << " vs " << l.candidate_t_ns;
+    EXPECT_LT(err_deg, 0.5) << "keyframe at " << l.query_t_ns << " vs " << l.candidate_t_ns;
+    EXPECT_GT(l.path_m, 150.0);  // a lap later, not a neighbour
+    worst_m = std::max(worst_m, err_m);
+    worst_deg = std::max(worst_deg, err_deg);
+  }
+  std::printf("%ld loops in %ld keyframes; worst relative pose error %.1f mm, %.2f deg\n",
+              static_cast<long>(r.counters.loops_detected),
+              static_cast<long>(r.counters.loop_queries), worst_m * 1e3, worst_deg);
+}
+
+// Measured: 395 look-alike places verified geometrically (20.0 m from where odometry puts the
+// car), every one refused as an implausible drift.
+TEST(LoopDetection, ALookAlikeStreetClosesNoLoop) {
+  const LoopRun r = run("lookalike_street", 48.0);
+  EXPECT_EQ(r.counters.loops_detected, 0);
+  EXPECT_GT(r.counters.places_implausible, 50);  // the look-alikes were there and were verified
+  std::printf("%ld look-alike places verified and refused in %ld keyframes\n",
+              static_cast<long>(r.counters.places_implausible),
+              static_cast<long>(r.counters.loop_queries));
+}
+
+}  // namespace
+}  // namespace hs
