@@ -154,12 +154,23 @@ const MapperPoint* KeyframeGraph::point(int64_t id) const {
   return it == points_.end() ? nullptr : &it->second;
 }
 
-std::vector<int64_t> KeyframeGraph::keyframe_ids() const {
+namespace {
+template <typename Map>
+std::vector<int64_t> sorted_keys(const Map& map) {
   std::vector<int64_t> ids;
-  ids.reserve(keyframes_.size());
-  for (const auto& entry : keyframes_) ids.push_back(entry.first);
+  ids.reserve(map.size());
+  for (const auto& entry : map) ids.push_back(entry.first);
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+}  // namespace
+
+std::vector<int64_t> KeyframeGraph::point_ids() const {
+  return sorted_keys(points_);
+}
+
+std::vector<int64_t> KeyframeGraph::keyframe_ids() const {
+  return sorted_keys(keyframes_);
 }
 
 void KeyframeGraph::set_state(int64_t keyframe_id, const NavState& state) {

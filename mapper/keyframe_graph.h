@@ -89,6 +89,7 @@ class KeyframeGraph {
   const MapperKeyframe* keyframe(int64_t id) const;
   const MapperPoint* point(int64_t id) const;
   std::vector<int64_t> keyframe_ids() const;  // ascending
+  std::vector<int64_t> point_ids() const;     // ascending
   size_t num_keyframes() const { return keyframes_.size(); }
   size_t num_points() const { return points_.size(); }
   const KeyframeGraphCounters& counters() const { return counters_; }

@@ -87,8 +87,16 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   }
 
   if (options_.loop.enabled) detect_loop(id, step);
+  if (step.loop && options_.loop_closing.enabled && close_loop(step)) {
+    c.keyframes.clear();
+    c.points.clear();
+    fill_world_correction(id, c);
+  }
   if (options_.cull_keyframes) {
     for (int64_t k : redundant_keyframes(graph_, window.keyframes, options_.culling)) {
+      if (const auto prev = graph_.imu_predecessor(k))
+        culled_[k] = {*prev, graph_.keyframe(*prev)->state.T_w_b().inverse() *
+                                 graph_.keyframe(k)->state.T_w_b()};
       graph_.remove_keyframe(k);
       loops_.remove(k);
       ++counters_.culled_keyframes;
@@ -110,6 +118,54 @@ void Mapper::detect_loop(int64_t id, MapperStep& step) {
   if (step.loop) ++counters_.loops_detected;
   if (!stats.message.empty()) step.message += (step.message.empty() ? "" : "; ") + stats.message;
   step.loop_query = stats;
+}
+
+std::optional<Eigen::Isometry3d> Mapper::keyframe_pose(int64_t id) const {
+  Eigen::Isometry3d T_prev_k = Eigen::Isometry3d::Identity();
+  for (;;) {
+    if (const MapperKeyframe* kf = graph_.keyframe(id)) return kf->state.T_w_b() * T_prev_k;
+    const auto it = culled_.find(id);
+    if (it == culled_.end()) return std::nullopt;
+    T_prev_k = it->second.second * T_prev_k;
+    id = it->second.first;
+  }
+}
+
+bool Mapper::close_loop(MapperStep& step) {
+  const LoopFound& loop = *step.loop;
+  const LoopClosingOptions& o = options_.loop_closing;
+  if (keyframes_at_last_closure_ >= 0 &&
+      counters_.keyframes - keyframes_at_last_closure_ < o.min_keyframes_between)
+    return false;
+  if (loop.drift.translation().norm() < o.min_correction_m &&
+      Eigen::AngleAxisd(loop.drift.linear()).angle() < o.min_correction_rad)
+    return false;
+  closed_loops_.push_back(loop);
+  step.closure = hs::close_loop(graph_, closed_loops_, o);
+  keyframes_at_last_closure_ = counters_.keyframes;
+  ++counters_.loops_closed;
+  step.message += "; loop closed: " + std::to_string(step.closure->keyframes) +
+                  " keyframes, largest move " + std::to_string(step.closure->max_shift_m) +
+                  " m, pose graph " + std::to_string(step.closure->graph.time_ms) + " ms";
+  return true;
+}
+
+void Mapper::fill_world_correction(int64_t id, MapCorrection& c) const {
+  const int32_t world = graph_.world(id);
+  std::vector<int64_t> ids;
+  for (int64_t k : graph_.keyframe_ids())
+    if (graph_.world(k) == world) ids.push_back(k);
+  std::unordered_set<int64_t> points;
+  for (size_t n = 0; n < ids.size(); ++n) {
+    const MapperKeyframe& kf = *graph_.keyframe(ids[n]);
+    c.keyframes.push_back({kf.id, kf.state});
+    if (n + options_.loop_correction_point_keyframes < ids.size()) continue;
+    for (const MapperKeypoint& kp : kf.keypoints) {
+      const MapperPoint* p = kp.point_id >= 0 ? graph_.point(kp.point_id) : nullptr;
+      if (p && !mapper_made_point(p->id) && points.insert(p->id).second)
+        c.points.push_back({p->id, p->p_w});
+    }
+  }
 }
 
 void Mapper::refine_inertial(int64_t newest, MapperStep& step) {

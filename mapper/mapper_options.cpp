@@ -120,6 +120,22 @@ MapperConfig load_mapper_config(const std::string& path) {
     l.candidates = static_cast<size_t>(candidates);
     l.verify.octave_scale = o.window.octave_scale;
   });
+  top.section("loop_closing", [&](ConfigSection& s) {
+    LoopClosingOptions& l = o.loop_closing;
+    s.read("enabled", l.enabled);
+    s.read("min_correction_m", l.min_correction_m);
+    s.read_degrees("min_correction_deg", l.min_correction_rad);
+    s.read("min_keyframes_between", l.min_keyframes_between);
+    s.read("strong_covisibility", l.strong_covisibility);
+    s.read("loop_weight", l.loop_weight);
+    s.read("four_dof", l.pose_graph.four_dof);
+    int points = static_cast<int>(o.loop_correction_point_keyframes);
+    s.read("correction_point_keyframes", points);
+    if (!(l.min_correction_m >= 0) || !(l.min_correction_rad >= 0) || l.min_keyframes_between < 0 ||
+        l.strong_covisibility < 1 || !(l.loop_weight > 0) || points < 1)
+      s.fail("enabled", "loop closing options out of range");
+    o.loop_correction_point_keyframes = static_cast<size_t>(points);
+  });
   read_process_tail(top, c.heartbeat_period_ns, c.channels);
   return c;
 }

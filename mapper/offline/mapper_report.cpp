@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/core/atomic_file.h"
+#include "common/core/error.h"
 #include "mapper/keyframe_from_msg.h"
 #include "tracker/offline/run_report.h"
 
@@ -51,6 +52,26 @@ void write_loops_csv(const std::string& path, const MapperRunStats& stats) {
   write_file_atomically(path, o.str());
 }
 
+std::string final_trajectory_text(const std::string& out_dir, const OfflineRunResult& result,
+                                  const Mapper& mapper) {
+  const Trajectory final_est =
+      result.keyframe_relative_estimate([&mapper](int64_t id) { return mapper.keyframe_pose(id); });
+  save_tum(out_dir + "/trajectory_final.tum", final_est);
+  std::ostringstream o;
+  o << "final trajectory (frames on the mapper's keyframe poses): " << out_dir
+    << "/trajectory_final.tum";
+  try {
+    if (const auto eval = evaluate_run(result, final_est)) {
+      o.precision(4);
+      o << ", ATE RMSE " << eval->ape.stats.rmse * 100 << " cm (online "
+        << evaluate_run(result)->ape.stats.rmse * 100 << " cm)";
+    }
+  } catch (const InputError& e) {
+    o << " (no evaluation: " << e.what() << ")";
+  }
+  return o.str() + "\n";
+}
+
 std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
                         const OfflineRunResult& result) {
   const MapperCounters& counters = mapper.counters();
@@ -78,12 +99,12 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << counters.inertial_refinements << " (not adopted " << counters.inertial_refinements_rejected
     << ", median " << time_stats(stats.inertial_ms).median << " ms); gravity "
     << gravity_tilt_rad(mapper.gravity_w()) * 180.0 / M_PI << " deg from the tracker world's -z\n";
-  o << "loops: " << counters.loops_detected << " detected in " << counters.loop_queries
-    << " queries (places verified " << counters.places_verified << ", implausible drift "
-    << counters.places_implausible << ", neighbourhood disagreed " << counters.places_unconfirmed
-    << "; query median " << time_stats(stats.loop_query_ms).median << " ms, p95 "
-    << time_stats(stats.loop_query_ms).p95 << " ms; index " << mapper.loop_index_bytes() / 1e6
-    << " MB)\n";
+  o << "loops: " << counters.loops_detected << " detected (" << counters.loops_closed
+    << " closed) in " << counters.loop_queries << " queries (places verified "
+    << counters.places_verified << ", implausible drift " << counters.places_implausible
+    << ", neighbourhood disagreed " << counters.places_unconfirmed << "; query median "
+    << time_stats(stats.loop_query_ms).median << " ms, p95 " << time_stats(stats.loop_query_ms).p95
+    << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB)\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median
     << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
     << result.counters.corrections_ignored << ", stated jumps (new map id) "

@@ -27,6 +27,11 @@ BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose 
 // path since the candidate and the correction it implied.
 void write_loops_csv(const std::string& path, const MapperRunStats& stats);
 
+// The frames on the mapper's final keyframe poses (after loop closure): written as
+// trajectory_final.tum and evaluated against the ground truth when there is one.
+std::string final_trajectory_text(const std::string& out_dir, const OfflineRunResult& result,
+                                  const Mapper& mapper);
+
 std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
                         const OfflineRunResult& result);
 

@@ -38,6 +38,13 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_NEAR(c.mapper.loop.drift_base_rad, d.loop.drift_base_rad, 1e-15);
   EXPECT_NEAR(c.mapper.loop.max_tilt_rad, d.loop.max_tilt_rad, 1e-15);
   EXPECT_EQ(c.mapper.loop.consistent, d.loop.consistent);
+  EXPECT_EQ(c.mapper.loop_closing.enabled, d.loop_closing.enabled);
+  EXPECT_EQ(c.mapper.loop_closing.min_correction_m, d.loop_closing.min_correction_m);
+  EXPECT_NEAR(c.mapper.loop_closing.min_correction_rad, d.loop_closing.min_correction_rad, 1e-15);
+  EXPECT_EQ(c.mapper.loop_closing.min_keyframes_between, d.loop_closing.min_keyframes_between);
+  EXPECT_EQ(c.mapper.loop_closing.strong_covisibility, d.loop_closing.strong_covisibility);
+  EXPECT_EQ(c.mapper.loop_closing.pose_graph.four_dof, d.loop_closing.pose_graph.four_dof);
+  EXPECT_EQ(c.mapper.loop_correction_point_keyframes, d.loop_correction_point_keyframes);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
@@ -75,6 +82,11 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_EQ(l.mapper.loop.drift_per_m, 0.01);
   const TempYaml bad_loop("loop:\n  min_inliers: 3\n");
   expect_input_error([&] { load_mapper_config(bad_loop.path()); }, {"loop", "range"});
+  const TempYaml closing("loop_closing:\n  four_dof: false\n  min_correction_m: 0.1\n");
+  EXPECT_FALSE(load_mapper_config(closing.path()).mapper.loop_closing.pose_graph.four_dof);
+  EXPECT_EQ(load_mapper_config(closing.path()).mapper.loop_closing.min_correction_m, 0.1);
+  const TempYaml bad_closing("loop_closing:\n  loop_weight: 0\n");
+  expect_input_error([&] { load_mapper_config(bad_closing.path()); }, {"loop_closing", "range"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
   expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
 }

@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
     if (mapper) {
       hs::write_loops_csv(out_dir + "/loops.csv", mapper_stats);
       std::cout << hs::mapper_text(mapper_stats, *mapper, result);
+      std::cout << hs::final_trajectory_text(out_dir, result, *mapper);
     }
   } catch (const std::exception& e) {
     std::cerr << "hs-run: " << e.what() << "\n";

@@ -58,6 +58,18 @@ Trajectory OfflineRunResult::estimate() const {
   return t;
 }
 
+Trajectory OfflineRunResult::keyframe_relative_estimate(
+    const std::function<std::optional<Eigen::Isometry3d>(int64_t)>& T_w_kf) const {
+  Trajectory t;
+  for (const FrameRecord& f : frames) {
+    if (!f.accepted || f.state == TrackState::kInitialising) continue;
+    const std::optional<Eigen::Isometry3d> T_w_ref =
+        f.ref_keyframe_id >= 0 ? T_w_kf(f.ref_keyframe_id) : std::nullopt;
+    t.poses.push_back({f.t_ns, T_w_ref ? *T_w_ref * f.T_ref_b : f.nav.T_w_b()});
+  }
+  return t;
+}
+
 Trajectory OfflineRunResult::ground_truth_trajectory() const {
   Trajectory t;
   for (const NavState& s : ground_truth) {
@@ -98,6 +110,11 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
       rec.stage_ms = r.stage_ms;
       rec.nav = r.nav;
       rec.message = r.message;
+      if (const auto ref = tracker.map().latest_keyframe();
+          ref && r.accepted && r.state != TrackState::kInitialising) {
+        rec.ref_keyframe_id = ref->id;
+        rec.T_ref_b = ref->state.T_w_b().inverse() * r.nav.T_w_b();
+      }
       if (r.keyframe && run_options.back_end) {
         for (const MapCorrection& c :
              run_options.back_end(keyframe_msg(*r.keyframe, tracker.map(), r.map_id))) {

@@ -3,6 +3,7 @@
 // the same library the hs-tracker process uses, fed from an EuRoC folder or straight from the
 // simulator (no disk). Collects per-frame results for trajectories, timing and evaluation.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ struct FrameRecord {
   std::vector<std::pair<std::string, float>> stage_ms;
   NavState nav;
   std::string message;
+  // The newest keyframe the tracker held when it estimated this frame (-1: none), and the frame's
+  // pose relative to it then: with the back end's final keyframe poses, the frame's final pose.
+  int64_t ref_keyframe_id = -1;
+  Eigen::Isometry3d T_ref_b = Eigen::Isometry3d::Identity();
   int corrections = 0;              // back-end corrections applied after this frame
   double correction_shift_m = 0.0;  // the largest move of the pose they caused
 };
@@ -52,6 +57,10 @@ struct OfflineRunResult {
 
   // Body poses of the frames that have a state (not initialising, not rejected).
   Trajectory estimate() const;
+  // The same frames placed on their reference keyframes' poses as `T_w_kf` gives them (e.g. a
+  // back end's after loop closure); a frame whose keyframe it does not know keeps its own pose.
+  Trajectory keyframe_relative_estimate(
+      const std::function<std::optional<Eigen::Isometry3d>(int64_t)>& T_w_kf) const;
   Trajectory ground_truth_trajectory() const;
 };
 

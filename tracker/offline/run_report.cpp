@@ -83,7 +83,10 @@ std::string timing_text(const TimingSummary& t) {
 }
 
 std::optional<EvalResult> evaluate_run(const OfflineRunResult& result) {
-  const Trajectory est = result.estimate();
+  return evaluate_run(result, result.estimate());
+}
+
+std::optional<EvalResult> evaluate_run(const OfflineRunResult& result, const Trajectory& est) {
   if (result.ground_truth.empty() || est.poses.size() < 3) return std::nullopt;
   EvalOptions o;
   o.align = AlignMode::kSe3;

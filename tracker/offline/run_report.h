@@ -28,6 +28,8 @@ std::string timing_text(const TimingSummary& t);
 // ATE/RPE of the run's estimate against its ground truth (SE(3) alignment, RPE over 1 m as
 // the paper's tables), if it has ground truth.
 std::optional<EvalResult> evaluate_run(const OfflineRunResult& result);
+// The same for another estimate of the run's frames (e.g. keyframe_relative_estimate).
+std::optional<EvalResult> evaluate_run(const OfflineRunResult& result, const Trajectory& est);
 
 // One descriptor mode's figures in the tracker benchmark (one column of the paper's Table 4).
 struct ModeReport {
