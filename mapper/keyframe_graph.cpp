@@ -59,6 +59,7 @@ KeyframeGraph::InsertResult KeyframeGraph::insert(MapperKeyframe kf) {
       p.id = point_id;
       p.p_w = n.kf.point_positions.at(point_id);
       p.first_keyframe_id = id;
+      if (mapper_made_point(point_id)) next_point_id_ = std::max(next_point_id_, point_id + 1);
     }
     for (const Observation& o : p.observations)
       if (world(o.keyframe_id) == w) add_weight(id, o.keyframe_id, 1);

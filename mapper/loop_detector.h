@@ -70,6 +70,11 @@ class LoopDetector {
 
   // `query` must be in the graph with its current (bundle-adjusted) state. It joins the index.
   std::optional<LoopFound> detect(const KeyframeGraph& graph, int64_t query, LoopQueryStats* stats);
+  // A keyframe joining the index without a query (a loaded map's).
+  void add(const KeyframeGraph& graph, int64_t id) {
+    path_at(graph, id);
+    index_.add(id, graph.keyframe(id)->descriptors);
+  }
   // A keyframe leaving the graph (culled).
   void remove(int64_t keyframe_id) {
     index_.remove(keyframe_id);

@@ -19,6 +19,7 @@
 #include "mapper/local_ba.h"
 #include "mapper/loop_closing.h"
 #include "mapper/loop_detector.h"
+#include "mapper/map_file.h"
 #include "mapper/new_points.h"
 #include "mapper/window_input.h"
 
@@ -96,6 +97,12 @@ class Mapper {
   Mapper(const StereoCalib& calib, const MapperOptions& options);
 
   MapperStep add_keyframe(MapperKeyframe keyframe);
+
+  // The map as it is now (mapper_map_file.cpp), and a mapper started from one: its keyframes,
+  // points, closed loops and gravity, as a world of its own (ids moved out of the way of the
+  // tracker's, which start from 0 again). Only on a fresh mapper.
+  MapFile map_file() const;
+  void load(const MapFile& map);
 
   const KeyframeGraph& graph() const { return graph_; }
   const MapperCounters& counters() const { return counters_; }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <exception>
+#include <stdexcept>
 
 #include "common/core/monotonic_clock.h"
 #include "common/lcm/convert.h"
@@ -25,6 +26,16 @@ MapperNode::MapperNode(lcm::LCM& lcm, const StereoCalib& calib, const MapperOpti
 MapperNode::~MapperNode() {
   stop();
   lcm_.unsubscribe(subscription_);
+}
+
+void MapperNode::load_map(const MapFile& map) {
+  if (started_) throw std::logic_error("MapperNode::load_map after start()");
+  mapper_.load(map);
+}
+
+MapFile MapperNode::map_file() const {
+  if (worker_.joinable()) throw std::logic_error("MapperNode::map_file before stop()");
+  return mapper_.map_file();
 }
 
 void MapperNode::start() {

@@ -44,6 +44,10 @@ class MapperNode {
   MapperNode(const MapperNode&) = delete;
   MapperNode& operator=(const MapperNode&) = delete;
 
+  // Before start(): begin from a saved map. After stop(): the map to save.
+  void load_map(const MapFile& map);
+  MapFile map_file() const;
+
   void start();
   // Maps what is queued, stops the worker and publishes a STOPPING heartbeat. Idempotent.
   void stop();

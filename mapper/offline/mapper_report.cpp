@@ -17,6 +17,7 @@ void MapperRunStats::add(const MapperStep& step) {
   if (step.inertial) inertial_ms.push_back(step.inertial->time_ms);
   if (step.loop_query) loop_query_ms.push_back(step.loop_query->time_ms);
   if (step.loop) loops.push_back(*step.loop);
+  if (step.closure) pose_graph_ms.push_back(step.closure->graph.time_ms);
   if (step.ba.rounds == 0) return;
   ba_ms.push_back(step.ba.time_ms);
   ba_cpu_ms.push_back(step.ba.cpu_ms);

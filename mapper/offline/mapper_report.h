@@ -15,6 +15,7 @@ struct MapperRunStats {
   std::vector<double> inertial_ms;  // per inertial refinement
   std::vector<double> window_keyframes, window_points, window_observations, ba_iterations;
   std::vector<double> loop_query_ms;  // place index query + verification, per keyframe
+  std::vector<double> pose_graph_ms;  // per loop closed
   std::vector<LoopFound> loops;
   void add(const MapperStep& step);
 };

@@ -25,6 +25,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"Run the HS-SLAM tracker over a dataset in process"};
   std::string dataset, sim_path, config, mapper_config, out_dir = "out/run", descriptors;
+  std::string load_map, save_map;
   double duration_s = 0.0, skip_s = 0.0;
   int64_t seed = -1;
   bool mono = false, verbose = false, with_mapper = false;
@@ -39,6 +40,9 @@ int main(int argc, char** argv) {
   app.add_flag("--with-mapper", with_mapper,
                "run the mapper in process; the tracker waits for each correction");
   app.add_option("--mapper-config", mapper_config, "mapper config (default: built-in settings)");
+  app.add_option("--load-map", load_map, "with --with-mapper: start the mapper from this map file");
+  app.add_option("--save-map", save_map,
+                 "with --with-mapper: write the mapper's map here at the end");
   app.add_option("--out", out_dir, "output folder")->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "print every tracker message");
   CLI11_PARSE(app, argc, argv);
@@ -92,6 +96,7 @@ int main(int argc, char** argv) {
       // Reproducible: the tracker waits for each bundle adjustment to finish, however long.
       mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
       mapper.emplace(options.calib, mapper_options);
+      if (!load_map.empty()) mapper->load(hs::read_map_file(load_map));
       run_options.back_end = hs::in_process_back_end(*mapper, mapper_stats, verbose);
     }
     const hs::OfflineRunResult result = hs::run_offline(options, source, run_options);
@@ -101,6 +106,10 @@ int main(int argc, char** argv) {
       hs::write_loops_csv(out_dir + "/loops.csv", mapper_stats);
       std::cout << hs::mapper_text(mapper_stats, *mapper, result);
       std::cout << hs::final_trajectory_text(out_dir, result, *mapper);
+      if (!save_map.empty()) {
+        hs::write_map_file(save_map, mapper->map_file());
+        std::cout << "map saved to " << save_map << "\n";
+      }
     }
   } catch (const std::exception& e) {
     std::cerr << "hs-run: " << e.what() << "\n";

@@ -1,0 +1,33 @@
+#pragma once
+// The mapper's map on disk (issue 7, hs-mapper --save-map / --load-map): keyframes with their
+// keypoints, descriptors, states and IMU, the positions of the points they observe, the loops
+// closed so far and gravity. Binary, little-endian, versioned and checksummed:
+//   "HSSLAMAP" | u32 version | u64 payload bytes | u32 CRC-32 of the payload | payload
+// A file that is not one, of another version, truncated or corrupt is refused with an
+// InputError naming the file and what is wrong; nothing of it is used.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "mapper/loop_detector.h"
+#include "mapper/mapper_keyframe.h"
+
+namespace hs {
+
+constexpr uint32_t kMapFileVersion = 1;
+
+struct MapFile {
+  // In id order; point_positions holds every observed point (the store's positions).
+  std::vector<MapperKeyframe> keyframes;
+  std::vector<LoopFound> loops;  // closed
+  Eigen::Vector3d g_w = Eigen::Vector3d::Zero();
+};
+
+// Atomic: a crash while writing leaves the old file.
+void write_map_file(const std::string& path, const MapFile& map);
+MapFile read_map_file(const std::string& path);
+
+// CRC-32 (IEEE 802.3, as zlib's crc32).
+uint32_t crc32(const uint8_t* data, size_t size);
+
+}  // namespace hs
