@@ -145,6 +145,42 @@ int64_t KeyframeGraph::add_point(const Eigen::Vector3d& p_w,
   return id;
 }
 
+void KeyframeGraph::add_observation(int64_t id, const Observation& o) {
+  MapperPoint& p = points_.at(id);
+  MapperKeypoint& kp =
+      keyframes_.at(o.keyframe_id).kf.keypoints.at(static_cast<size_t>(o.keypoint));
+  const bool seen =
+      std::any_of(p.observations.begin(), p.observations.end(),
+                  [&](const Observation& s) { return s.keyframe_id == o.keyframe_id; });
+  if (kp.point_id >= 0 || seen)
+    throw std::invalid_argument("KeyframeGraph::add_observation: keyframe " +
+                                std::to_string(o.keyframe_id) + " already sees point " +
+                                std::to_string(seen ? id : kp.point_id));
+  kp.point_id = id;
+  for (const Observation& s : p.observations)
+    if (world(s.keyframe_id) == world(o.keyframe_id)) add_weight(o.keyframe_id, s.keyframe_id, 1);
+  p.observations.push_back(o);
+  update_descriptor(p);
+}
+
+void KeyframeGraph::fuse_point(int64_t drop, int64_t keep) {
+  if (drop == keep) return;
+  const std::vector<Observation> moved = points_.at(drop).observations;
+  const MapperPoint& kept = points_.at(keep);
+  remove_point(drop);
+  for (const Observation& o : moved) {
+    const bool sees =
+        std::any_of(kept.observations.begin(), kept.observations.end(),
+                    [&](const Observation& s) { return s.keyframe_id == o.keyframe_id; });
+    if (!sees) add_observation(keep, o);
+  }
+}
+
+void KeyframeGraph::merge_world(int32_t from, int32_t into) {
+  for (auto& entry : world_of_map_)
+    if (entry.second == from) entry.second = into;
+}
+
 const MapperKeyframe* KeyframeGraph::keyframe(int64_t id) const {
   const auto it = keyframes_.find(id);
   return it == keyframes_.end() ? nullptr : &it->second.kf;

@@ -85,6 +85,14 @@ class KeyframeGraph {
   // A point of the mapper's own at p_w, seen by the given keypoints (each free: point_id -1, of
   // a keyframe of one world). Returns its id (from kMapperPointIdBase up).
   int64_t add_point(const Eigen::Vector3d& p_w, const std::vector<Observation>& observations);
+  // A free keypoint (point_id -1) of a keyframe not yet seeing point `id` now sees it.
+  void add_observation(int64_t id, const Observation& o);
+  // One point found twice (a revisit): `drop`'s observations move to `keep`, except those of
+  // keyframes already seeing `keep` (their keypoints are freed), and `drop` is removed.
+  void fuse_point(int64_t drop, int64_t keep);
+  // Every map id of world `from` joins world `into` (two maps found to be one). Their frames
+  // must agree by now: the caller moved one onto the other.
+  void merge_world(int32_t from, int32_t into);
 
   const MapperKeyframe* keyframe(int64_t id) const;
   const MapperPoint* point(int64_t id) const;

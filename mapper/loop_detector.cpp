@@ -5,7 +5,7 @@
 #include <cmath>
 #include <unordered_set>
 
-#include "common/features/descriptor_match.h"
+#include "mapper/point_fusion.h"
 
 namespace hs {
 namespace {
@@ -36,45 +36,20 @@ double LoopDetector::path_at(const KeyframeGraph& graph, int64_t id) {
 double LoopDetector::neighbourhood_share(const KeyframeGraph& graph, const MapperKeyframe& query,
                                          const MapperKeyframe& candidate,
                                          const Eigen::Isometry3d& T_c_q, int* projected) const {
-  std::vector<int64_t> keyframes =
-      graph.most_covisible(candidate.id, options_.neighbourhood_keyframes);
-  keyframes.push_back(candidate.id);
-  std::unordered_set<int64_t> points;
-  for (int64_t k : keyframes)
-    for (const MapperKeypoint& kp : graph.keyframe(k)->keypoints)
-      if (kp.point_id >= 0) points.insert(kp.point_id);
-  // World -> query cam0, through the candidate's pose and the measured relative pose.
-  const Eigen::Isometry3d T_q_w =
-      calib_.cam0.T_b_c.inverse() * T_c_q.inverse() * candidate.state.T_w_b().inverse();
-  const PinholeRadtan& K = calib_.cam0.intrinsics;
-  std::vector<Eigen::Vector2d> predicted;
-  cv::Mat descriptors(0, 32, CV_8U);
-  for (int64_t id : points) {
-    const MapperPoint* p = graph.point(id);
-    Eigen::Vector2d uv;
-    if (!p || !K.project(T_q_w * p->p_w, &uv)) continue;
-    predicted.push_back(uv);
-    descriptors.push_back(cv::Mat(1, 32, CV_8U, const_cast<uint8_t*>(p->descriptor.data())));
-  }
-  *projected = static_cast<int>(predicted.size());
-  if (predicted.empty()) return 0.0;
-  std::vector<Eigen::Vector2f> uv_q;
-  for (const MapperKeypoint& kp : query.keypoints) uv_q.emplace_back(kp.u, kp.v);
-  const KeypointGrid grid(uv_q, K.width, K.height);
-  DescriptorMatchOptions match;
-  match.max_distance = options_.verify.max_hamming;
-  match.ratio = static_cast<float>(options_.verify.ratio);
-  match.search_radius_px = options_.neighbourhood_radius_px;
-  const cv::Mat query_desc(static_cast<int>(query.descriptors.size()), 32, CV_8U,
-                           const_cast<uint8_t*>(query.descriptors.front().data()));
-  const std::vector<int> found =
-      match_by_projection(descriptors, predicted, query_desc, grid, match);
-  const auto matched = std::count_if(found.begin(), found.end(), [](int i) { return i >= 0; });
-  return static_cast<double>(matched) / static_cast<double>(predicted.size());
+  PointFusionOptions match;
+  match.max_hamming = options_.verify.max_hamming;
+  match.ratio = options_.verify.ratio;
+  match.radius_px = options_.neighbourhood_radius_px;
+  match.max_depth_error = 0.0;
+  const std::vector<ProjectedMatch> found = match_projected_points(
+      graph, query, candidate.state.T_w_b() * T_c_q,
+      neighbourhood_points(graph, candidate.id, options_.neighbourhood_keyframes), calib_, match,
+      projected);
+  return *projected > 0 ? static_cast<double>(found.size()) / *projected : 0.0;
 }
 
 std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_t query,
-                                              LoopQueryStats* stats) {
+                                              LoopQueryStats* stats, bool join_index) {
   LoopQueryStats local;
   LoopQueryStats& st = stats ? *stats : local;
   st = {};
@@ -83,14 +58,17 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
   const double path_q = path_at(graph, query);
   const int32_t world = graph.world(query);
   const int64_t min_age_ns = static_cast<int64_t>(options_.min_age_s * 1e9);
+  // Another world's keyframes and a loaded map's have no age relative to the query.
   const auto exclude = [&](int64_t id) {
     const MapperKeyframe* c = graph.keyframe(id);
-    return !c || graph.world(id) != world || q.state.t_ns - c->state.t_ns < min_age_ns ||
+    if (!c) return true;
+    if (graph.world(id) != world) return !options_.merge_worlds;
+    return (!foreign_.count(id) && q.state.t_ns - c->state.t_ns < min_age_ns) ||
            graph.shared_points(query, id) > 0;
   };
   const std::vector<PlaceCandidate> candidates =
       index_.query(q.descriptors, options_.candidates, exclude);
-  index_.add(query, q.descriptors);
+  if (join_index) index_.add(query, q.descriptors);
   st.candidates = static_cast<int>(candidates.size());
 
   std::optional<LoopFound> found;
@@ -102,6 +80,10 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
     LoopFound loop{query,   c.id, q.state.t_ns, c.state.t_ns,
                    m.T_c_q, {},   m.inliers,    path_q - path_at(graph, c.id)};
     loop.drift = c.state.T_w_b() * m.T_c_q * q.state.T_w_b().inverse();
+    loop.merge = graph.world(c.id) != world;
+    // The drift since the candidate is only bounded along one run of one world: another world's
+    // frame, or a loaded map's, is anywhere.
+    const bool bounded = !loop.merge && !foreign_.count(c.id);
     const double drift_m = (loop.drift * q.state.p_w_b - q.state.p_w_b).norm();
     const double max_m = options_.drift_base_m + options_.drift_per_m * loop.path_m;
     const double max_rad = options_.drift_base_rad + options_.drift_rad_per_m * loop.path_m;
@@ -113,7 +95,7 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
                   rotation_rad(loop.drift) * 180 / M_PI, max_rad * 180 / M_PI,
                   tilt_rad(loop.drift.linear()) * 180 / M_PI, loop.path_m);
     st.message = why;
-    if (drift_m > max_m || rotation_rad(loop.drift) > max_rad ||
+    if ((bounded && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
         tilt_rad(loop.drift.linear()) > options_.max_tilt_rad) {
       ++st.implausible;
       continue;

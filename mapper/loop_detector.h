@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "common/calib/camera_calib.h"
 #include "mapper/keyframe_graph.h"
@@ -26,6 +27,9 @@ namespace hs {
 
 struct LoopDetectionOptions {
   bool enabled = true;
+  // Candidates from other worlds (an earlier map of this run, a loaded one): a verified match
+  // there merges the two (no drift bound applies, the other checks do).
+  bool merge_worlds = true;
   PlaceIndexOptions index;
   PlaceVerifyOptions verify;
   size_t candidates = 3;   // best-scoring keyframes verified per query
@@ -52,6 +56,8 @@ struct LoopFound {
   Eigen::Isometry3d drift = Eigen::Isometry3d::Identity();
   int inliers = 0;
   double path_m = 0.0;  // travelled from the candidate to the query
+  // The candidate is of another world: `drift` moves the query's whole world onto it.
+  bool merge = false;
 };
 
 // What one query did (for counters and messages).
@@ -68,17 +74,21 @@ class LoopDetector {
  public:
   LoopDetector(const StereoCalib& calib, const LoopDetectionOptions& options);
 
-  // `query` must be in the graph with its current (bundle-adjusted) state. It joins the index.
-  std::optional<LoopFound> detect(const KeyframeGraph& graph, int64_t query, LoopQueryStats* stats);
-  // A keyframe joining the index without a query (a loaded map's).
+  // `query` must be in the graph with its current (bundle-adjusted) state. It joins the index
+  // unless told not to (localisation only: the map does not grow).
+  std::optional<LoopFound> detect(const KeyframeGraph& graph, int64_t query, LoopQueryStats* stats,
+                                  bool join_index = true);
+  // A loaded map's keyframe joining the index without a query.
   void add(const KeyframeGraph& graph, int64_t id) {
     path_at(graph, id);
+    foreign_.insert(id);
     index_.add(id, graph.keyframe(id)->descriptors);
   }
   // A keyframe leaving the graph (culled).
   void remove(int64_t keyframe_id) {
     index_.remove(keyframe_id);
     path_m_.erase(keyframe_id);
+    foreign_.erase(keyframe_id);
   }
   const PlaceIndex& index() const { return index_; }
 
@@ -101,6 +111,7 @@ class LoopDetector {
   LoopDetectionOptions options_;
   PlaceIndex index_;
   std::unordered_map<int64_t, double> path_m_;
+  std::unordered_set<int64_t> foreign_;  // loaded keyframes
   std::unordered_map<int32_t, WorldPath> world_path_;
   std::optional<LoopFound> streak_;  // the previous keyframe's plausible loop
   int streak_length_ = 0;

@@ -16,6 +16,15 @@ namespace hs {
 
 constexpr uint32_t kMapFileVersion = 1;
 
+// A loaded map's ids are moved up to here, out of the way of the running tracker's, which start
+// from 0 again (ids already there stay: a map saved after loading one loads the same way).
+constexpr int64_t kLoadedKeyframeIdBase = int64_t{1} << 48;
+constexpr int64_t kLoadedPointIdBase = int64_t{1} << 56;  // tracker points (< 2^60) only
+constexpr int32_t kLoadedMapIdBase = int32_t{1} << 24;
+inline bool loaded_keyframe(int64_t id) {
+  return id >= kLoadedKeyframeIdBase;
+}
+
 struct MapFile {
   // In id order; point_positions holds every observed point (the store's positions).
   std::vector<MapperKeyframe> keyframes;

@@ -1,5 +1,7 @@
 #include "mapper/mapper.h"
 
+#include <algorithm>
+#include <set>
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
@@ -23,6 +25,7 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   MapCorrection c;
   c.map_id = keyframe.map_id;
   c.t_ns = keyframe.state.t_ns;
+  resolve_aliases(keyframe);
   for (MapperKeypoint& kp : keyframe.keypoints) {
     if (kp.point_id < 0 || !removed_points_.count(kp.point_id)) continue;
     keyframe.point_positions.erase(kp.point_id);
@@ -37,13 +40,25 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   const int every = options_.inertial.every_keyframes;
   if (every > 0 && counters_.keyframes % every == 0) refine_inertial(id, step);
 
-  const std::vector<NewPoint> made =
-      triangulate_new_points(graph_, id, calib_, options_.new_points);
-  for (const NewPoint& p : made) graph_.add_point(p.p_w, {p.a, p.b});
-  step.new_points = static_cast<int>(made.size());
-  counters_.new_points += step.new_points;
-  const LocalWindow window = graph_.local_window(id);
+  if (!options_.localisation_only) {
+    const std::vector<NewPoint> made =
+        triangulate_new_points(graph_, id, calib_, options_.new_points);
+    for (const NewPoint& p : made) graph_.add_point(p.p_w, {p.a, p.b});
+    step.new_points = static_cast<int>(made.size());
+    counters_.new_points += step.new_points;
+  }
+  if (options_.fuse_revisits) fuse(id, revisited_points(id), step);
+  LocalWindow window = graph_.local_window(id);
+  if (options_.localisation_only) {
+    // The loaded map holds still: its keyframes join the fixed set.
+    const auto split = std::stable_partition(window.keyframes.begin(), window.keyframes.end(),
+                                             [&](int64_t k) { return !frozen_keyframe(k); });
+    window.fixed_keyframes.insert(window.fixed_keyframes.end(), split, window.keyframes.end());
+    window.keyframes.erase(split, window.keyframes.end());
+    std::sort(window.fixed_keyframes.begin(), window.fixed_keyframes.end());
+  }
   WindowInput problem = window_input(graph_, window, options_.window);
+  for (BaPoint& p : problem.input.points) p.fixed = p.fixed || frozen_point(p.id);
   problem.input.gravity = {g_w_, options_.window_gravity_sigma_rad};
   counters_.imu_factors_skipped += problem.imu_factors_skipped;
   step.window_keyframes = static_cast<int>(window.keyframes.size());
@@ -75,19 +90,27 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   }
   for (const BaPoint& p : result.points) {
     const auto [seen, failed] = tally[p.id];
-    if (failed >= 2 && failed >= options_.point_outlier_ratio * seen) {
-      graph_.remove_point(p.id);
-      removed_points_.insert(p.id);
-      ++counters_.removed_points;
-      if (!mapper_made_point(p.id)) c.removed_points.push_back(p.id);
+    if (!frozen_point(p.id) && failed >= 2 && failed >= options_.point_outlier_ratio * seen) {
+      remove_point(p.id, c);
       continue;
     }
     graph_.set_position(p.id, p.p_w);
-    if (!mapper_made_point(p.id)) c.points.push_back({p.id, p.p_w});  // the tracker's only
+    add_point_correction(p.id, p.p_w, c);
   }
 
   if (options_.loop.enabled) detect_loop(id, step);
-  if (step.loop && options_.loop_closing.enabled && close_loop(step)) {
+  bool whole_world = false;
+  if (step.loop && step.loop->merge) {
+    merge_worlds(step);
+    whole_world = true;
+  } else if (step.loop && !options_.localisation_only && options_.loop_closing.enabled) {
+    whole_world = close_loop(step);
+  }
+  if (step.loop && options_.fuse_revisits)
+    fuse(id,
+         neighbourhood_points(graph_, step.loop->candidate, options_.loop.neighbourhood_keyframes),
+         step);
+  if (whole_world) {
     c.keyframes.clear();
     c.points.clear();
     fill_world_correction(id, c);
@@ -110,7 +133,7 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
 
 void Mapper::detect_loop(int64_t id, MapperStep& step) {
   LoopQueryStats stats;
-  step.loop = loops_.detect(graph_, id, &stats);
+  step.loop = loops_.detect(graph_, id, &stats, !options_.localisation_only);
   ++counters_.loop_queries;
   counters_.places_verified += stats.verified;
   counters_.places_implausible += stats.implausible;
@@ -152,9 +175,9 @@ bool Mapper::close_loop(MapperStep& step) {
 
 void Mapper::fill_world_correction(int64_t id, MapCorrection& c) const {
   const int32_t world = graph_.world(id);
-  std::vector<int64_t> ids;
+  std::vector<int64_t> ids;  // the tracker's keyframes: not a loaded map's
   for (int64_t k : graph_.keyframe_ids())
-    if (graph_.world(k) == world) ids.push_back(k);
+    if (graph_.world(k) == world && !loaded_keyframe(k)) ids.push_back(k);
   std::unordered_set<int64_t> points;
   for (size_t n = 0; n < ids.size(); ++n) {
     const MapperKeyframe& kf = *graph_.keyframe(ids[n]);
@@ -162,9 +185,112 @@ void Mapper::fill_world_correction(int64_t id, MapCorrection& c) const {
     if (n + options_.loop_correction_point_keyframes < ids.size()) continue;
     for (const MapperKeypoint& kp : kf.keypoints) {
       const MapperPoint* p = kp.point_id >= 0 ? graph_.point(kp.point_id) : nullptr;
-      if (p && !mapper_made_point(p->id) && points.insert(p->id).second)
-        c.points.push_back({p->id, p->p_w});
+      if (p && points.insert(p->id).second) add_point_correction(p->id, p->p_w, c);
     }
+  }
+}
+
+void Mapper::merge_worlds(MapperStep& step) {
+  const LoopFound& loop = *step.loop;
+  const int32_t from = graph_.world(loop.query);
+  const int32_t into = graph_.world(loop.candidate);
+  const Eigen::Isometry3d& T = loop.drift;  // `from`'s frame -> `into`'s
+  const Eigen::Matrix3d R = T.linear();
+  for (int64_t k : graph_.keyframe_ids()) {
+    if (graph_.world(k) != from) continue;
+    NavState s = graph_.keyframe(k)->state;
+    s.p_w_b = T * s.p_w_b;
+    s.q_w_b = Eigen::Quaterniond(R * s.q_w_b.toRotationMatrix()).normalized();
+    s.v_w = R * s.v_w;
+    graph_.set_state(k, s);
+  }
+  for (int64_t id : graph_.point_ids()) {
+    const MapperPoint& p = *graph_.point(id);
+    if (graph_.world(p.observations.front().keyframe_id) == from)
+      graph_.set_position(id, T * p.p_w);
+  }
+  graph_.merge_world(from, into);
+  g_w_ = R * g_w_;
+  closed_loops_.push_back(loop);  // an edge of later pose graphs
+  ++counters_.maps_merged;
+  step.merged = true;
+  step.message += "; map merged: keyframe " + std::to_string(loop.query) + "'s world moved " +
+                  std::to_string(T.translation().norm()) + " m onto keyframe " +
+                  std::to_string(loop.candidate) + "'s";
+}
+
+std::vector<int64_t> Mapper::revisited_points(int64_t id) const {
+  const MapperKeyframe& kf = *graph_.keyframe(id);
+  const auto min_age_ns = static_cast<int64_t>(options_.loop.min_age_s * 1e9);
+  // The new keyframe's own neighbourhood is mostly the current pass (it shares most points with
+  // it): the old pass is reached through the old keyframes it already shares a few with.
+  std::set<int64_t> points;
+  size_t old = 0;
+  for (int64_t k : graph_.most_covisible(id, graph_.num_keyframes())) {
+    if (!loaded_keyframe(k) && kf.state.t_ns - graph_.keyframe(k)->state.t_ns < min_age_ns)
+      continue;
+    for (int64_t p : neighbourhood_points(graph_, k, options_.fusion.neighbourhood_keyframes))
+      points.insert(p);
+    if (++old == options_.fusion.revisited_keyframes) break;
+  }
+  return {points.begin(), points.end()};
+}
+
+void Mapper::fuse(int64_t id, const std::vector<int64_t>& points, MapperStep& step) {
+  const FusionResult r =
+      fuse_points_into(graph_, id, points, calib_, options_.fusion,
+                       [this](int64_t p) { return loaded_points_.count(p) > 0; });
+  step.fused_points += r.fused;
+  counters_.points_fused += r.fused;
+  counters_.fusion_observations += r.observations_added;
+  for (const auto& [drop, keep] : r.merged) {
+    std::vector<int64_t>& to = alias_sources_[keep];
+    if (auto moved = alias_sources_.extract(drop); !moved.empty())
+      for (int64_t source : moved.mapped()) {
+        aliases_[source] = keep;
+        to.push_back(source);
+      }
+    if (tracker_point(drop)) {
+      aliases_[drop] = keep;
+      to.push_back(drop);
+    }
+  }
+}
+
+void Mapper::resolve_aliases(MapperKeyframe& keyframe) {
+  std::unordered_set<int64_t> seen;
+  for (MapperKeypoint& kp : keyframe.keypoints) {
+    if (kp.point_id < 0) continue;
+    if (const auto a = aliases_.find(kp.point_id); a != aliases_.end()) {
+      if (graph_.point(a->second)) {
+        keyframe.point_positions.erase(kp.point_id);
+        kp.point_id = a->second;
+      } else {  // the kept point is gone since: the tracker's stands alone again
+        aliases_.erase(a);
+      }
+    }
+    // Two of the tracker's points fused into one: the keyframe sees it once.
+    if (!seen.insert(kp.point_id).second) kp.point_id = -1;
+  }
+}
+
+void Mapper::add_point_correction(int64_t id, const Eigen::Vector3d& p_w, MapCorrection& c) const {
+  if (tracker_point(id)) c.points.push_back({id, p_w});
+  if (const auto s = alias_sources_.find(id); s != alias_sources_.end())
+    for (int64_t source : s->second) c.points.push_back({source, p_w});
+}
+
+void Mapper::remove_point(int64_t id, MapCorrection& c) {
+  graph_.remove_point(id);
+  ++counters_.removed_points;
+  std::vector<int64_t> ids{id};
+  if (auto s = alias_sources_.extract(id); !s.empty()) {
+    for (int64_t source : s.mapped()) aliases_.erase(source);
+    ids.insert(ids.end(), s.mapped().begin(), s.mapped().end());
+  }
+  for (int64_t removed : ids) {
+    removed_points_.insert(removed);
+    if (tracker_point(removed)) c.removed_points.push_back(removed);
   }
 }
 

@@ -21,6 +21,7 @@
 #include "mapper/loop_detector.h"
 #include "mapper/map_file.h"
 #include "mapper/new_points.h"
+#include "mapper/point_fusion.h"
 #include "mapper/window_input.h"
 
 namespace hs {
@@ -36,6 +37,15 @@ struct MapperOptions {
   InertialRefinementOptions inertial;
   LoopDetectionOptions loop;
   LoopClosingOptions loop_closing;
+  // Points of a revisited place found again in the new keyframe are fused with it (after a
+  // loop or merge, and for every keyframe covisible with one at least loop.min_age_s older or
+  // loaded): the two passes then share points and every local BA holds them together.
+  bool fuse_revisits = true;
+  PointFusionOptions fusion;
+  // Localisation only (with a loaded map): the loaded keyframes and points are held fixed, the
+  // new keyframes do not join the place index or the saved map, and the mapper triangulates no
+  // points and closes no loops; a match with the loaded map merges the tracker's world into it.
+  bool localisation_only = false;
   // After a loop closure the correction carries every keyframe of the world and the points of
   // this many newest keyframes (those the tracker can still hold).
   size_t loop_correction_point_keyframes = 20;
@@ -75,7 +85,10 @@ struct MapperCounters {
   int64_t places_implausible = 0;  // ... but implied an implausible drift: not loops
   int64_t places_unconfirmed = 0;  // ... or the candidate's neighbourhood disagreed
   int64_t loops_detected = 0;
-  int64_t loops_closed = 0;  // pose graph run, map corrected
+  int64_t loops_closed = 0;         // pose graph run, map corrected
+  int64_t maps_merged = 0;          // a world moved onto another it was found in
+  int64_t points_fused = 0;         // points found to be another, merged
+  int64_t fusion_observations = 0;  // free keypoints that found a map point
 };
 
 struct MapperStep {
@@ -89,7 +102,9 @@ struct MapperStep {
   std::optional<LoopQueryStats> loop_query;  // when loop detection ran
   std::optional<LoopFound> loop;
   std::optional<LoopClosureStats> closure;  // when the loop was closed
-  std::string message;                      // what was dropped and why, if anything
+  bool merged = false;                      // the loop merged the query's world into another
+  int fused_points = 0;
+  std::string message;  // what was dropped and why, if anything
 };
 
 class Mapper {
@@ -120,6 +135,26 @@ class Mapper {
   bool close_loop(MapperStep& step);
   // Every keyframe of `id`'s world and the points of its newest keyframes, as they are now.
   void fill_world_correction(int64_t id, MapCorrection& c) const;
+  // step.loop is with another world: the query's world moves onto it and joins it.
+  void merge_worlds(MapperStep& step);
+  // Fuses `points` into keyframe `id` and remembers the merged points the tracker names.
+  void fuse(int64_t id, const std::vector<int64_t>& points, MapperStep& step);
+  // The points around the old keyframes (loop.min_age_s older, or loaded) that keyframe `id`
+  // shares points with: a place visited before. None if it shares none.
+  std::vector<int64_t> revisited_points(int64_t id) const;
+  // Tracker point ids the keyframe names for points since fused into others: the kept ones.
+  void resolve_aliases(MapperKeyframe& keyframe);
+  // A point's position for the tracker: under its id if the tracker has it, and under every
+  // id of the tracker's fused into it.
+  void add_point_correction(int64_t id, const Eigen::Vector3d& p_w, MapCorrection& c) const;
+  void remove_point(int64_t id, MapCorrection& c);
+  bool tracker_point(int64_t id) const { return !mapper_made_point(id) && id < kLoadedPointIdBase; }
+  bool frozen_keyframe(int64_t id) const {
+    return options_.localisation_only && loaded_keyframe(id);
+  }
+  bool frozen_point(int64_t id) const {
+    return options_.localisation_only && loaded_points_.count(id);
+  }
 
   MapperOptions options_;
   StereoCalib calib_;
@@ -129,6 +164,11 @@ class Mapper {
   MapperCounters counters_;
   Eigen::Vector3d g_w_ = default_gravity_w();
   std::unordered_set<int64_t> removed_points_;
+  std::unordered_set<int64_t> loaded_points_;
+  Eigen::Vector3d loaded_g_w_ = Eigen::Vector3d::Zero();
+  // Fused points: the dropped id -> the kept one, and the kept -> the tracker's ids fused into it.
+  std::unordered_map<int64_t, int64_t> aliases_;
+  std::unordered_map<int64_t, std::vector<int64_t>> alias_sources_;
   std::vector<LoopFound> closed_loops_;
   // Culled keyframe -> (its IMU predecessor then, its pose relative to it).
   std::unordered_map<int64_t, std::pair<int64_t, Eigen::Isometry3d>> culled_;

@@ -136,6 +136,24 @@ MapperConfig load_mapper_config(const std::string& path) {
       s.fail("enabled", "loop closing options out of range");
     o.loop_correction_point_keyframes = static_cast<size_t>(points);
   });
+  top.section("fusion", [&](ConfigSection& s) {
+    PointFusionOptions& f = o.fusion;
+    s.read("enabled", o.fuse_revisits);
+    s.read("max_hamming", f.max_hamming);
+    s.read("ratio", f.ratio);
+    s.read("radius_px", f.radius_px);
+    s.read("max_depth_error", f.max_depth_error);
+    int revisited = static_cast<int>(f.revisited_keyframes);
+    int neighbourhood = static_cast<int>(f.neighbourhood_keyframes);
+    s.read("revisited_keyframes", revisited);
+    s.read("neighbourhood_keyframes", neighbourhood);
+    if (f.max_hamming < 0 || f.max_hamming > 256 || !(f.ratio > 0 && f.ratio <= 1) ||
+        !(f.radius_px > 0) || !(f.max_depth_error >= 0) || revisited < 1 || neighbourhood < 0)
+      s.fail("enabled", "fusion options out of range");
+    f.revisited_keyframes = static_cast<size_t>(revisited);
+    f.neighbourhood_keyframes = static_cast<size_t>(neighbourhood);
+  });
+  top.section("localisation", [&](ConfigSection& s) { s.read("only", o.localisation_only); });
   read_process_tail(top, c.heartbeat_period_ns, c.channels);
   return c;
 }

@@ -5,6 +5,7 @@
 #include <exception>
 #include <string>
 
+#include "common/core/error.h"
 #include "common/core/stop_signal.h"
 #include "common/lcm/lcm_connection.h"
 #include "common/lcm/process_loop.h"
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   hs::add_rig_calib_options(app, calib_dir, sim_scenario);
   app.add_option("--load-map", load_map, "start from this map file");
   app.add_option("--save-map", save_map, "write the map here when stopping");
+  bool localise = false;
+  app.add_flag("--localisation-only", localise,
+               "with --load-map: localise in the loaded map, do not extend it");
   app.add_option("--lcm-url", url, "LCM URL ($LCM_DEFAULT_URL or the project default)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -45,6 +49,9 @@ int main(int argc, char** argv) {
   try {
     hs::MapperConfig c = config.empty() ? hs::MapperConfig{} : hs::load_mapper_config(config);
     hs::override_rig_calib(calib_dir, sim_scenario, c.calib);
+    if (localise && load_map.empty())
+      throw hs::InputError("--localisation-only", "needs a map to localise in (--load-map)");
+    c.mapper.localisation_only = c.mapper.localisation_only || localise;
     auto lcm = hs::connect_lcm(url);
     const auto start = std::chrono::steady_clock::now();
     hs::MapperNode node(*lcm, c.calib, c.mapper, {c.channels, c.heartbeat_period_ns});

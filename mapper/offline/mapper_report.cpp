@@ -105,7 +105,9 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << counters.places_verified << ", implausible drift " << counters.places_implausible
     << ", neighbourhood disagreed " << counters.places_unconfirmed << "; query median "
     << time_stats(stats.loop_query_ms).median << " ms, p95 " << time_stats(stats.loop_query_ms).p95
-    << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB)\n";
+    << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB); maps merged "
+    << counters.maps_merged << ", points fused " << counters.points_fused
+    << ", observations found again " << counters.fusion_observations << "\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median
     << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
     << result.counters.corrections_ignored << ", stated jumps (new map id) "

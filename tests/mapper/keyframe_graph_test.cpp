@@ -266,6 +266,46 @@ TEST(KeyframeGraph, AMapIdContinuingAKeyframeStaysInItsWorld) {
   EXPECT_EQ(g.local_window(3).keyframes, (std::vector<int64_t>{0, 1, 2, 3}));
 }
 
+TEST(KeyframeGraph, MergedWorldsShareWindowsAndLaterMapIdsJoinThem) {
+  KeyframeGraph g;
+  g.insert(keyframe(0, -1, ids(0, 9), 0));
+  g.insert(keyframe(1, 0, ids(0, 9), 0));
+  g.insert(keyframe(2, -1, ids(20, 29), 1));  // a second world
+  g.insert(keyframe(3, 2, ids(20, 29), 1));
+  g.merge_world(g.world(2), g.world(0));
+  EXPECT_EQ(g.world(3), g.world(0));
+  g.insert(keyframe(4, 3, ids(20, 29), 2));  // a later map id of the merged world
+  EXPECT_EQ(g.world(4), g.world(0));
+  EXPECT_EQ(g.imu_predecessor(4), 3);
+  // Found again: keyframe 3's point 20 is keyframe 0's point 0; the two worlds now share it.
+  g.fuse_point(20, 0);
+  EXPECT_EQ(g.point(20), nullptr);
+  EXPECT_EQ(g.point(0)->observations.size(), 5u);
+  EXPECT_EQ(g.shared_points(0, 3), 1);
+  EXPECT_EQ(g.shared_points(3, 4), 10);  // still 10: point 0 replaced point 20 for both
+  EXPECT_EQ(g.keyframe(3)->keypoints[0].point_id, 0);
+  const LocalWindow w = g.local_window(3);
+  EXPECT_TRUE(std::count(w.keyframes.begin(), w.keyframes.end(), 0));
+}
+
+TEST(KeyframeGraph, FusingIntoAPointAKeyframeAlreadySeesFreesTheSecondKeypoint) {
+  KeyframeGraph g;
+  g.insert(keyframe(0, -1, {1, 2}));
+  g.insert(keyframe(1, 0, {1, 2}));
+  g.fuse_point(2, 1);  // both keyframes see both: point 1 keeps one observation per keyframe
+  EXPECT_EQ(g.point(1)->observations.size(), 2u);
+  EXPECT_EQ(g.keyframe(0)->keypoints[1].point_id, -1);
+  EXPECT_EQ(g.shared_points(0, 1), 1);
+  // A free keypoint (each test keyframe's last) gains an observation; a keyframe seeing the
+  // point already, or a keypoint seeing another, is refused.
+  g.insert(keyframe(2, 1, {3}));
+  g.add_observation(1, {2, 1});
+  EXPECT_EQ(g.shared_points(1, 2), 1);
+  EXPECT_EQ(g.point(1)->observations.size(), 3u);
+  EXPECT_THROW(g.add_observation(1, {2, 1}), std::invalid_argument);
+  EXPECT_THROW(g.add_observation(3, {0, 0}), std::invalid_argument);
+}
+
 TEST(KeyframeGraph, RemovingAKeyframeJoinsItsNeighboursImuIntervals) {
   KeyframeGraph g;
   for (int64_t i = 0; i < 4; ++i) g.insert(keyframe(i, i - 1, ids(0, 9)));

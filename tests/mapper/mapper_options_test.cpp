@@ -45,6 +45,14 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.loop_closing.strong_covisibility, d.loop_closing.strong_covisibility);
   EXPECT_EQ(c.mapper.loop_closing.pose_graph.four_dof, d.loop_closing.pose_graph.four_dof);
   EXPECT_EQ(c.mapper.loop_correction_point_keyframes, d.loop_correction_point_keyframes);
+  EXPECT_EQ(c.mapper.fuse_revisits, d.fuse_revisits);
+  EXPECT_EQ(c.mapper.fusion.max_hamming, d.fusion.max_hamming);
+  EXPECT_EQ(c.mapper.fusion.ratio, d.fusion.ratio);
+  EXPECT_EQ(c.mapper.fusion.radius_px, d.fusion.radius_px);
+  EXPECT_EQ(c.mapper.fusion.max_depth_error, d.fusion.max_depth_error);
+  EXPECT_EQ(c.mapper.fusion.revisited_keyframes, d.fusion.revisited_keyframes);
+  EXPECT_EQ(c.mapper.fusion.neighbourhood_keyframes, d.fusion.neighbourhood_keyframes);
+  EXPECT_EQ(c.mapper.localisation_only, d.localisation_only);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
@@ -87,6 +95,13 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_EQ(load_mapper_config(closing.path()).mapper.loop_closing.min_correction_m, 0.1);
   const TempYaml bad_closing("loop_closing:\n  loop_weight: 0\n");
   expect_input_error([&] { load_mapper_config(bad_closing.path()); }, {"loop_closing", "range"});
+  const TempYaml fusion(
+      "fusion:\n  enabled: false\n  radius_px: 2.5\nlocalisation:\n  only: true\n");
+  EXPECT_FALSE(load_mapper_config(fusion.path()).mapper.fuse_revisits);
+  EXPECT_EQ(load_mapper_config(fusion.path()).mapper.fusion.radius_px, 2.5);
+  EXPECT_TRUE(load_mapper_config(fusion.path()).mapper.localisation_only);
+  const TempYaml bad_fusion("fusion:\n  revisited_keyframes: 0\n");
+  expect_input_error([&] { load_mapper_config(bad_fusion.path()); }, {"fusion", "range"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
   expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
 }

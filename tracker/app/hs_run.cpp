@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
   app.add_option("--load-map", load_map, "with --with-mapper: start the mapper from this map file");
   app.add_option("--save-map", save_map,
                  "with --with-mapper: write the mapper's map here at the end");
+  bool localise = false;
+  app.add_flag("--localisation-only", localise,
+               "with --load-map: the mapper localises in the loaded map, does not extend it");
   app.add_option("--out", out_dir, "output folder")->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "print every tracker message");
   CLI11_PARSE(app, argc, argv);
@@ -93,6 +96,9 @@ int main(int argc, char** argv) {
                                              ? hs::MapperOptions{}
                                              : hs::load_mapper_config(mapper_config).mapper;
       mapper_options.window.imu = options.imu;
+      if (localise && load_map.empty())
+        throw hs::InputError("--localisation-only", "needs a map to localise in (--load-map)");
+      mapper_options.localisation_only = mapper_options.localisation_only || localise;
       // Reproducible: the tracker waits for each bundle adjustment to finish, however long.
       mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
       mapper.emplace(options.calib, mapper_options);
