@@ -95,7 +95,10 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
                   rotation_rad(loop.drift) * 180 / M_PI, max_rad * 180 / M_PI,
                   tilt_rad(loop.drift.linear()) * 180 / M_PI, loop.path_m);
     st.message = why;
+    const bool in_run_merge = loop.merge && !foreign_.count(c.id);
     if ((bounded && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
+        (in_run_merge && (drift_m > options_.merge_in_run_m ||
+                          rotation_rad(loop.drift) > options_.merge_in_run_rad)) ||
         tilt_rad(loop.drift.linear()) > options_.max_tilt_rad) {
       ++st.implausible;
       continue;

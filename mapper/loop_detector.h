@@ -28,8 +28,13 @@ namespace hs {
 struct LoopDetectionOptions {
   bool enabled = true;
   // Candidates from other worlds (an earlier map of this run, a loaded one): a verified match
-  // there merges the two (no drift bound applies, the other checks do).
+  // there merges the two. A loaded map's frame is anywhere: no bound on the move. A world of
+  // this run was started in place by the tracker, at its IMU-carried estimate after a loss, so
+  // its frame is the older world's but for that drift: a merge must move it less than this. (The
+  // blackout scenario: a 90 deg look-alike of the room verified and was consistent.)
   bool merge_worlds = true;
+  double merge_in_run_m = 1.0;
+  double merge_in_run_rad = 10.0 * M_PI / 180.0;
   PlaceIndexOptions index;
   PlaceVerifyOptions verify;
   size_t candidates = 3;   // best-scoring keyframes verified per query

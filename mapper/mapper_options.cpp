@@ -111,11 +111,15 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read_degrees("drift_deg_per_m", l.drift_rad_per_m);
     s.read_degrees("max_tilt_deg", l.max_tilt_rad);
     s.read("consistent", l.consistent);
+    s.read("merge_worlds", l.merge_worlds);
+    s.read("merge_in_run_m", l.merge_in_run_m);
+    s.read_degrees("merge_in_run_deg", l.merge_in_run_rad);
     if (l.index.tables < 1 || l.index.tables > 16 || candidates < 1 || !(l.min_age_s >= 0) ||
         l.verify.max_hamming < 0 || l.verify.max_hamming > 256 ||
         !(l.verify.ratio > 0 && l.verify.ratio <= 1) || l.verify.min_inliers < 6 ||
         !(l.drift_base_m >= 0) || !(l.drift_per_m >= 0) || !(l.drift_base_rad >= 0) ||
-        !(l.drift_rad_per_m >= 0) || !(l.max_tilt_rad >= 0) || l.consistent < 1)
+        !(l.drift_rad_per_m >= 0) || !(l.max_tilt_rad >= 0) || l.consistent < 1 ||
+        !(l.merge_in_run_m >= 0) || !(l.merge_in_run_rad >= 0))
       s.fail("enabled", "loop options out of range");
     l.candidates = static_cast<size_t>(candidates);
     l.verify.octave_scale = o.window.octave_scale;

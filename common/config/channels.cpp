@@ -8,7 +8,7 @@ namespace hs {
 namespace {
 
 using Field = std::pair<const char*, std::string ChannelNames::*>;
-constexpr std::array<Field, 10> kFields = {{
+constexpr std::array<Field, 11> kFields = {{
     {"CAM_STEREO", &ChannelNames::cam_stereo},
     {"IMU", &ChannelNames::imu},
     {"TRIGGER", &ChannelNames::trigger},
@@ -17,6 +17,7 @@ constexpr std::array<Field, 10> kFields = {{
     {"TRACKER_STATUS", &ChannelNames::tracker_status},
     {"KEYFRAME", &ChannelNames::keyframe},
     {"MAP_UPDATE", &ChannelNames::map_update},
+    {"MAP_COMMAND", &ChannelNames::map_command},
     {"HEARTBEAT", &ChannelNames::heartbeat},
     {"GROUND_TRUTH", &ChannelNames::ground_truth},
 }};

@@ -16,6 +16,7 @@ struct ChannelNames {
   std::string tracker_status = "TRACKER_STATUS";
   std::string keyframe = "KEYFRAME";
   std::string map_update = "MAP_UPDATE";
+  std::string map_command = "MAP_COMMAND";
   std::string heartbeat = "HEARTBEAT";
   std::string ground_truth = "GROUND_TRUTH";
 };

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <exception>
+#include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "common/core/monotonic_clock.h"
@@ -10,6 +12,7 @@
 #include "common/lcm/process_loop.h"
 #include "hsslam/heartbeat_t.hpp"
 #include "hsslam/keyframe_t.hpp"
+#include "hsslam/map_command_t.hpp"
 #include "hsslam/map_update_t.hpp"
 #include "mapper/keyframe_from_msg.h"
 
@@ -21,11 +24,14 @@ MapperNode::MapperNode(lcm::LCM& lcm, const StereoCalib& calib, const MapperOpti
   // Plain-function handler: GCC 12 UBSan's vptr check breaks LCM's member-function dispatch.
   subscription_ =
       lcm_.subscribeFunction(node_options_.channels.keyframe, &MapperNode::on_keyframe, this);
+  command_subscription_ =
+      lcm_.subscribeFunction(node_options_.channels.map_command, &MapperNode::on_command, this);
 }
 
 MapperNode::~MapperNode() {
   stop();
   lcm_.unsubscribe(subscription_);
+  lcm_.unsubscribe(command_subscription_);
 }
 
 void MapperNode::load_map(const MapFile& map) {
@@ -98,15 +104,81 @@ void MapperNode::handle_keyframe(const void* data, size_t size, const std::strin
   ready_.notify_one();
 }
 
+void MapperNode::on_command(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                            MapperNode* self) {
+  self->handle_command(rbuf->data, rbuf->data_size, channel);
+}
+
+void MapperNode::handle_command(const void* data, size_t size, const std::string& channel) {
+  hsslam::map_command_t msg;
+  std::string error;
+  try {
+    msg = decode_message<hsslam::map_command_t>(data, size, channel);
+    if (msg.command != hsslam::map_command_t::SAVE)
+      error = "unknown command " + std::to_string(msg.command);
+    else if (msg.path.empty())
+      error = "SAVE without a path";
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.commands_received;
+    if (error.empty()) {
+      save_requests_.emplace_back(msg.seq, msg.path);
+    } else {
+      ++stats_.bad_command_messages;
+      last_message_ = "save request " + std::to_string(msg.seq) + " refused: " + error;
+    }
+  }
+  if (error.empty())
+    ready_.notify_one();
+  else
+    publish_heartbeat(hsslam::heartbeat_t::OK);
+}
+
+void MapperNode::save_map(int64_t seq, const std::string& path) {
+  std::string message = "save request " + std::to_string(seq) + ": ";
+  bool saved = false;
+  try {
+    const MapFile map = mapper_.map_file();
+    write_map_file(path, map);
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    message += "map saved to " + path + " (" + std::to_string(map.keyframes.size()) +
+               " keyframes, " + std::to_string(ec ? 0 : bytes) + " bytes)";
+    saved = true;
+  } catch (const std::exception& e) {
+    message += std::string("failed: ") + e.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++(saved ? stats_.maps_saved : stats_.map_save_failures);
+    last_message_ = message;
+  }
+  publish_heartbeat(hsslam::heartbeat_t::OK);
+}
+
 void MapperNode::run() {
   for (;;) {
     MapperKeyframe kf;
+    std::optional<std::pair<int64_t, std::string>> save;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      ready_.wait(lock, [&] { return closed_ || !queue_.empty(); });
-      if (queue_.empty()) return;
-      kf = std::move(queue_.front());
-      queue_.pop_front();
+      ready_.wait(lock, [&] { return closed_ || !queue_.empty() || !save_requests_.empty(); });
+      if (!save_requests_.empty()) {
+        save = std::move(save_requests_.front());
+        save_requests_.pop_front();
+      } else if (queue_.empty()) {
+        return;
+      } else {
+        kf = std::move(queue_.front());
+        queue_.pop_front();
+      }
+    }
+    if (save) {
+      save_map(save->first, save->second);
+      continue;
     }
     const auto start = std::chrono::steady_clock::now();
     MapperStep step = mapper_.add_keyframe(std::move(kf));
@@ -141,6 +213,10 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"bad_keyframe_messages", s.bad_keyframe_messages},
       {"keyframes_mapped", s.keyframes_mapped},
       {"updates_published", s.updates_published},
+      {"commands_received", s.commands_received},
+      {"bad_command_messages", s.bad_command_messages},
+      {"maps_saved", s.maps_saved},
+      {"map_save_failures", s.map_save_failures},
       {"max_backlog", static_cast<int64_t>(s.max_backlog)},
       {"local_ba_runs", m.local_ba_runs},
       {"new_points", m.new_points},
@@ -148,6 +224,9 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"removed_points", m.removed_points},
       {"imu_factors_skipped", m.imu_factors_skipped},
       {"loops_detected", m.loops_detected},
+      {"loops_closed", m.loops_closed},
+      {"maps_merged", m.maps_merged},
+      {"points_fused", m.points_fused},
       {"places_implausible", m.places_implausible},
       {"duplicate_keyframes", g.duplicates},
       {"out_of_order_keyframes", g.out_of_order},

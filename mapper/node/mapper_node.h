@@ -1,7 +1,9 @@
 #pragma once
 // The mapper as an LCM component (the hs-mapper process). Subscribes to KEYFRAME (keyframe_t),
 // runs the Mapper on each keyframe in a worker thread and publishes MAP_UPDATE (map_update_t)
-// per keyframe and HEARTBEAT about once a period (backlog, counters).
+// per keyframe and HEARTBEAT about once a period (backlog, counters). MAP_COMMAND (map_command_t)
+// SAVE writes the map between two keyframes and answers at once with a HEARTBEAT whose message
+// says "save request <seq>: ..." (the file and its size, or why it failed).
 //
 // Threads: the receive thread (lcm.handle()) decodes and validates keyframes and queues them;
 // it never waits for the mapper. The worker owns the Mapper. The backlog is unbounded (every
@@ -32,6 +34,10 @@ struct MapperNodeStats {
   int64_t bad_keyframe_messages = 0;
   int64_t keyframes_mapped = 0;
   int64_t updates_published = 0;
+  int64_t commands_received = 0;
+  int64_t bad_command_messages = 0;  // undecodable, unknown command or no path: answered, dropped
+  int64_t maps_saved = 0;
+  int64_t map_save_failures = 0;
   size_t max_backlog = 0;   // keyframes waiting for the mapper, the most at any time
   double mapping_ms = 0.0;  // summed Mapper::add_keyframe wall time
 };
@@ -59,6 +65,11 @@ class MapperNode {
   static void on_keyframe(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                           MapperNode* self);
   void handle_keyframe(const void* data, size_t size, const std::string& channel);
+  static void on_command(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                         MapperNode* self);
+  void handle_command(const void* data, size_t size, const std::string& channel);
+  // Worker thread: a SAVE request between two keyframes; answered by a heartbeat.
+  void save_map(int64_t seq, const std::string& path);
   void run();
   void publish_heartbeat(int8_t state);
 
@@ -66,6 +77,7 @@ class MapperNode {
   const MapperNodeOptions node_options_;
   Mapper mapper_;  // worker thread only (counters read under mutex_ after each keyframe)
   lcm::Subscription* subscription_ = nullptr;
+  lcm::Subscription* command_subscription_ = nullptr;
   std::thread worker_;
   bool started_ = false;
   int64_t next_heartbeat_ns_ = 0;
@@ -73,6 +85,7 @@ class MapperNode {
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable ready_;
   std::deque<MapperKeyframe> queue_;
+  std::deque<std::pair<int64_t, std::string>> save_requests_;  // (seq, path)
   bool closed_ = false;
   MapperNodeStats stats_;
   MapperCounters mapper_counters_;

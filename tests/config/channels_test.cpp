@@ -37,6 +37,7 @@ TEST(Channels, ShippedFileMatchesDefaults) {
   EXPECT_EQ(c.tracker_status, d.tracker_status);
   EXPECT_EQ(c.keyframe, d.keyframe);
   EXPECT_EQ(c.map_update, d.map_update);
+  EXPECT_EQ(c.map_command, d.map_command);
   EXPECT_EQ(c.heartbeat, d.heartbeat);
   EXPECT_EQ(c.ground_truth, d.ground_truth);
 }

@@ -53,6 +53,9 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.fusion.revisited_keyframes, d.fusion.revisited_keyframes);
   EXPECT_EQ(c.mapper.fusion.neighbourhood_keyframes, d.fusion.neighbourhood_keyframes);
   EXPECT_EQ(c.mapper.localisation_only, d.localisation_only);
+  EXPECT_EQ(c.mapper.loop.merge_worlds, d.loop.merge_worlds);
+  EXPECT_EQ(c.mapper.loop.merge_in_run_m, d.loop.merge_in_run_m);
+  EXPECT_NEAR(c.mapper.loop.merge_in_run_rad, d.loop.merge_in_run_rad, 1e-15);
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 

@@ -1,12 +1,13 @@
 // hs-tracker and hs-mapper as two processes over udpm multicast on loopback, fed by stock
 // lcm-logplayer (issue 6, "Runs" and "Faults"): the trajectory they publish against the
 // in-process run (hs-run --with-mapper), and what a killed and restarted mapper does to POSE
-// at 1x.
+// at 1x; hs-map-save asking a running mapper for its map, and a mapper started from it.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "common/lcm/lcm_connection.h"
 #include "hsslam/odometry_t.hpp"
 #include "hsslam/tracker_status_t.hpp"
+#include "mapper/map_file.h"
 #include "tests/common/ate_test_util.h"
 #include "tests/common/child_process.h"
 #include "tests/common/process_test_util.h"
@@ -202,6 +204,59 @@ TEST_F(MapperProcess, KilledMapperLeavesPoseGaplessAndARestartedOneResumes) {
       << "ignored: " << heard_.counter("corrections_ignored") << "\n"
       << mapper->output();
   EXPECT_EQ(heard_.counter("correction_jumps"), 0);
+}
+
+// Issue 7: "writes the atlas at exit or on an LCM command". A mapper mid-run writes its map when
+// asked over MAP_COMMAND and says where in its heartbeat; a path it cannot write gets the reason
+// and the mapper goes on; a new mapper starts from the file in localisation-only mode; a
+// truncated copy is refused with the file's name.
+TEST_F(MapperProcess, AMapperSavesItsMapOnRequestAndANewOneStartsFromIt) {
+  ChildProcess tracker(
+      {HS_TRACKER, "--config", d() + "/node.yaml", "--calib", d() + "/sim", "--lcm-url", url_},
+      d() + "/tracker4.txt");
+  ChildProcess mapper(mapper_cmd(), d() + "/mapper4.txt");
+  ASSERT_TRUE(listening(tracker)) << tracker.output();
+  ASSERT_TRUE(listening(mapper)) << mapper.output();
+  ChildProcess player({"lcm-logplayer", "-l", url_, d() + "/sim.lcmlog"}, d() + "/player4.txt");
+  pump([&] { return heard_.pose_t_ns.size() >= 120; }, 30);  // keyframes are being mapped
+
+  const std::string saved = d() + "/live.hsmap";
+  ChildProcess save({HS_MAP_SAVE, saved, "--lcm-url", url_, "--timeout", "30"}, d() + "/save.txt");
+  EXPECT_EQ(save.wait(), 0) << save.output();
+  EXPECT_NE(save.output().find("map saved to " + saved), std::string::npos) << save.output();
+  const MapFile map = read_map_file(saved);
+  EXPECT_GE(map.keyframes.size(), 3u);
+
+  ChildProcess refused({HS_MAP_SAVE, "/nonexistent-dir/x.hsmap", "--lcm-url", url_},
+                       d() + "/r.txt");
+  EXPECT_EQ(refused.wait(), 1) << refused.output();
+  EXPECT_NE(refused.output().find("failed"), std::string::npos) << refused.output();
+  EXPECT_NE(refused.output().find("/nonexistent-dir/x.hsmap"), std::string::npos);
+  EXPECT_TRUE(mapper.running());
+
+  pump([&] { return !player.running(); }, 60);
+  tracker.signal(SIGINT);
+  mapper.signal(SIGINT);
+  EXPECT_EQ(tracker.wait(), 0) << tracker.output();
+  EXPECT_EQ(mapper.wait(), 0) << mapper.output();
+
+  ChildProcess loaded({HS_MAPPER, "--calib", d() + "/sim", "--lcm-url", url_, "--load-map", saved,
+                       "--localisation-only"},
+                      d() + "/mapper5.txt");
+  ASSERT_TRUE(listening(loaded)) << loaded.output();
+  EXPECT_NE(loaded.output().find("loaded " + std::to_string(map.keyframes.size()) + " keyframes"),
+            std::string::npos)
+      << loaded.output();
+  loaded.signal(SIGINT);
+  EXPECT_EQ(loaded.wait(), 0) << loaded.output();
+
+  std::filesystem::resize_file(saved, std::filesystem::file_size(saved) / 2);
+  ChildProcess truncated(
+      {HS_MAPPER, "--calib", d() + "/sim", "--lcm-url", url_, "--load-map", saved},
+      d() + "/mapper6.txt");
+  EXPECT_NE(truncated.wait(), 0);
+  EXPECT_NE(truncated.output().find(saved), std::string::npos) << truncated.output();
+  EXPECT_NE(truncated.output().find("truncated"), std::string::npos) << truncated.output();
 }
 
 }  // namespace
