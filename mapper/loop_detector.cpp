@@ -81,9 +81,9 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
                    m.T_c_q, {},   m.inliers,    path_q - path_at(graph, c.id)};
     loop.drift = c.state.T_w_b() * m.T_c_q * q.state.T_w_b().inverse();
     loop.merge = graph.world(c.id) != world;
-    // The drift since the candidate is only bounded along one run of one world: another world's
-    // frame, or a loaded map's, is anywhere.
-    const bool bounded = !loop.merge && !foreign_.count(c.id);
+    // The drift since the candidate is bounded along one run of one world; a world of this run
+    // was started in place (merge_in_run_*); a loaded map's frame is anywhere.
+    const bool loaded = foreign_.count(c.id) > 0;
     const double drift_m = (loop.drift * q.state.p_w_b - q.state.p_w_b).norm();
     const double max_m = options_.drift_base_m + options_.drift_per_m * loop.path_m;
     const double max_rad = options_.drift_base_rad + options_.drift_rad_per_m * loop.path_m;
@@ -95,10 +95,10 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
                   rotation_rad(loop.drift) * 180 / M_PI, max_rad * 180 / M_PI,
                   tilt_rad(loop.drift.linear()) * 180 / M_PI, loop.path_m);
     st.message = why;
-    const bool in_run_merge = loop.merge && !foreign_.count(c.id);
-    if ((bounded && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
-        (in_run_merge && (drift_m > options_.merge_in_run_m ||
-                          rotation_rad(loop.drift) > options_.merge_in_run_rad)) ||
+    if ((!loaded && !loop.merge && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
+        (!loaded && loop.merge &&
+         (drift_m > options_.merge_in_run_m ||
+          rotation_rad(loop.drift) > options_.merge_in_run_rad)) ||
         tilt_rad(loop.drift.linear()) > options_.max_tilt_rad) {
       ++st.implausible;
       continue;

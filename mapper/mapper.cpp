@@ -198,10 +198,8 @@ void Mapper::merge_worlds(MapperStep& step) {
   const Eigen::Matrix3d R = T.linear();
   for (int64_t k : graph_.keyframe_ids()) {
     if (graph_.world(k) != from) continue;
-    NavState s = graph_.keyframe(k)->state;
-    s.p_w_b = T * s.p_w_b;
-    s.q_w_b = Eigen::Quaterniond(R * s.q_w_b.toRotationMatrix()).normalized();
-    s.v_w = R * s.v_w;
+    NavState s = rotated(graph_.keyframe(k)->state, R);
+    s.p_w_b += T.translation();
     graph_.set_state(k, s);
   }
   for (int64_t id : graph_.point_ids()) {
