@@ -31,6 +31,9 @@ struct LocalBaOptions {
   double chi2_threshold = 5.991;  // 95% of chi2 with 2 DoF: Huber threshold and outlier test
   double min_depth_m = 0.05;      // nearer to a camera: the observation cannot be used
   int num_threads = 1;
+  // The reduced keyframe system solved sparse: for the whole map (full BA), where most
+  // keyframes share no point and a dense one would be cubic in their number.
+  bool sparse = false;
 };
 
 struct BaKeyframe {

@@ -185,10 +185,16 @@ void LocalBaProblem::configure_solver() {
     has_points = has_points || is_point;
     ordering->AddElementToGroup(block, is_point ? 0 : 1);
   }
+  const bool sparse_available =
+      ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
   if (has_points) {
     solver_options_.linear_solver_type = ceres::DENSE_SCHUR;
+    if (options_.sparse && sparse_available) {
+      solver_options_.linear_solver_type = ceres::SPARSE_SCHUR;
+      solver_options_.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    }
     solver_options_.linear_solver_ordering = ordering;
-  } else if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)) {
+  } else if (sparse_available) {
     // An inertial-only chain of many keyframes: banded, dense would be cubic in its length.
     solver_options_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     solver_options_.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;

@@ -1,18 +1,34 @@
 #include "mapper/mapper.h"
 
 #include <algorithm>
+#include <chrono>
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
 namespace hs {
+namespace {
+
+void add_message(MapperStep& step, const std::string& text) {
+  step.message += (step.message.empty() ? "" : "; ") + text;
+}
+
+}  // namespace
 
 Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
     : options_(options),
       calib_(calib),
       graph_(options.graph),
       ba_(calib, options.ba),
+      full_ba_solver_(calib,
+                      [&] {
+                        LocalBaOptions o = options.ba;
+                        o.iterations_per_round = options.full_ba.iterations_per_round;
+                        o.time_budget_ms = options.full_ba.time_budget_ms;
+                        o.sparse = true;
+                        return o;
+                      }()),
       loops_(calib, options.loop) {
   if (options_.far_point_disparity_px > 0)
     options_.window.fixed_point_distance_m =
@@ -37,6 +53,8 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
     return step;
   }
   ++counters_.keyframes;
+  // A full BA that finished meets the graph before this keyframe's local BA builds on it.
+  bool whole_world = apply_finished_full_ba(!options_.full_ba.background, step);
   const int every = options_.inertial.every_keyframes;
   if (every > 0 && counters_.keyframes % every == 0) refine_inertial(id, step);
 
@@ -99,13 +117,14 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   }
 
   if (options_.loop.enabled) detect_loop(id, step);
-  bool whole_world = false;
+  bool world_moved = false;
   if (step.loop && step.loop->merge) {
     merge_worlds(step);
-    whole_world = true;
+    world_moved = true;
   } else if (step.loop && !options_.localisation_only && options_.loop_closing.enabled) {
-    whole_world = close_loop(step);
+    world_moved = close_loop(step);
   }
+  whole_world = whole_world || world_moved;
   if (step.loop && options_.fuse_revisits)
     fuse(id,
          neighbourhood_points(graph_, step.loop->candidate, options_.loop.neighbourhood_keyframes),
@@ -128,6 +147,69 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   c.g_w = g_w_;
   c.seq = next_seq_++;
   step.correction = std::move(c);
+  if (world_moved) start_full_ba(id);
+  return step;
+}
+
+void Mapper::start_full_ba(int64_t id) {
+  if (!options_.full_ba.enabled || options_.localisation_only) return;
+  if (full_ba_) {
+    full_ba_->keyframe = id;
+    full_ba_->stale = true;
+    return;
+  }
+  RunningFullBa run;
+  run.keyframe = id;
+  run.input = full_ba_input(graph_, graph_.world(id), g_w_, options_.window,
+                            [this](int64_t k) { return frozen_keyframe(k); });
+  // The thread works on its own copy: the snapshot stays to tell what moved since.
+  run.result = std::async(std::launch::async, [solver = &full_ba_solver_, input = run.input] {
+    return solver->optimise(input);
+  });
+  full_ba_ = std::move(run);
+}
+
+bool Mapper::apply_finished_full_ba(bool wait, MapperStep& step) {
+  if (!full_ba_) return false;
+  if (!wait && full_ba_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return false;
+  RunningFullBa run = std::move(*full_ba_);
+  full_ba_.reset();
+  LocalBaResult result;
+  try {
+    result = run.result.get();
+  } catch (const std::invalid_argument& e) {
+    add_message(step, std::string("full BA refused its input: ") + e.what());
+    return false;
+  }
+  if (run.stale) {
+    ++counters_.full_bas_discarded;
+    if (graph_.keyframe(run.keyframe)) start_full_ba(run.keyframe);
+    return false;
+  }
+  step.full_ba_applied = apply_full_ba(graph_, run.input, result);
+  step.full_ba = result.stats;
+  ++counters_.full_bas;
+  add_message(step, "full BA applied: " + std::to_string(step.full_ba_applied.keyframes) +
+                        " keyframes, " + std::to_string(step.full_ba_applied.points) + " points, " +
+                        std::to_string(result.stats.iterations) + " iterations, " +
+                        std::to_string(result.stats.time_ms) + " ms; " +
+                        std::to_string(step.full_ba_applied.keyframes_moved) +
+                        " keyframes added meanwhile moved with it");
+  return true;
+}
+
+MapperStep Mapper::finish_full_ba(bool wait) {
+  MapperStep step;
+  if (!apply_finished_full_ba(wait, step) || graph_.num_keyframes() == 0) return step;
+  const MapperKeyframe& newest = *graph_.keyframe(graph_.keyframe_ids().back());
+  MapCorrection c;
+  c.map_id = newest.map_id;
+  c.t_ns = newest.state.t_ns;
+  fill_world_correction(newest.id, c);
+  c.g_w = g_w_;
+  c.seq = next_seq_++;
+  step.correction = std::move(c);
   return step;
 }
 
@@ -139,7 +221,7 @@ void Mapper::detect_loop(int64_t id, MapperStep& step) {
   counters_.places_implausible += stats.implausible;
   counters_.places_unconfirmed += stats.unconfirmed;
   if (step.loop) ++counters_.loops_detected;
-  if (!stats.message.empty()) step.message += (step.message.empty() ? "" : "; ") + stats.message;
+  if (!stats.message.empty()) add_message(step, stats.message);
   step.loop_query = stats;
 }
 
@@ -167,9 +249,9 @@ bool Mapper::close_loop(MapperStep& step) {
   step.closure = hs::close_loop(graph_, closed_loops_, o);
   keyframes_at_last_closure_ = counters_.keyframes;
   ++counters_.loops_closed;
-  step.message += "; loop closed: " + std::to_string(step.closure->keyframes) +
-                  " keyframes, largest move " + std::to_string(step.closure->max_shift_m) +
-                  " m, pose graph " + std::to_string(step.closure->graph.time_ms) + " ms";
+  add_message(step, "loop closed: " + std::to_string(step.closure->keyframes) +
+                        " keyframes, largest move " + std::to_string(step.closure->max_shift_m) +
+                        " m, pose graph " + std::to_string(step.closure->graph.time_ms) + " ms");
   return true;
 }
 
@@ -195,26 +277,21 @@ void Mapper::merge_worlds(MapperStep& step) {
   const int32_t from = graph_.world(loop.query);
   const int32_t into = graph_.world(loop.candidate);
   const Eigen::Isometry3d& T = loop.drift;  // `from`'s frame -> `into`'s
-  const Eigen::Matrix3d R = T.linear();
-  for (int64_t k : graph_.keyframe_ids()) {
-    if (graph_.world(k) != from) continue;
-    NavState s = rotated(graph_.keyframe(k)->state, R);
-    s.p_w_b += T.translation();
-    graph_.set_state(k, s);
-  }
+  for (int64_t k : graph_.keyframe_ids())
+    if (graph_.world(k) == from) graph_.set_state(k, transformed(graph_.keyframe(k)->state, T));
   for (int64_t id : graph_.point_ids()) {
     const MapperPoint& p = *graph_.point(id);
     if (graph_.world(p.observations.front().keyframe_id) == from)
       graph_.set_position(id, T * p.p_w);
   }
   graph_.merge_world(from, into);
-  g_w_ = R * g_w_;
+  g_w_ = T.linear() * g_w_;
   closed_loops_.push_back(loop);  // an edge of later pose graphs
   ++counters_.maps_merged;
   step.merged = true;
-  step.message += "; map merged: keyframe " + std::to_string(loop.query) + "'s world moved " +
-                  std::to_string(T.translation().norm()) + " m onto keyframe " +
-                  std::to_string(loop.candidate) + "'s";
+  add_message(step, "map merged: keyframe " + std::to_string(loop.query) + "'s world moved " +
+                        std::to_string(T.translation().norm()) + " m onto keyframe " +
+                        std::to_string(loop.candidate) + "'s");
 }
 
 std::vector<int64_t> Mapper::revisited_points(int64_t id) const {
@@ -301,15 +378,15 @@ void Mapper::refine_inertial(int64_t newest, MapperStep& step) {
   try {
     result = ba_.optimise(input);
   } catch (const std::invalid_argument& e) {
-    step.message = std::string("IMU refinement refused its input: ") + e.what();
+    add_message(step, std::string("IMU refinement refused its input: ") + e.what());
     return;
   }
   step.inertial = result.stats;
   if (const double tilt = gravity_tilt_rad(result.g_w); !(tilt <= options_.inertial.max_tilt_rad)) {
     ++counters_.inertial_refinements_rejected;
-    step.message = "IMU refinement over " + std::to_string(input.keyframes.size()) +
-                   " keyframes not adopted: gravity " + std::to_string(tilt * 180.0 / M_PI) +
-                   " deg off -z";
+    add_message(step, "IMU refinement over " + std::to_string(input.keyframes.size()) +
+                          " keyframes not adopted: gravity " + std::to_string(tilt * 180.0 / M_PI) +
+                          " deg off -z");
     return;
   }
   ++counters_.inertial_refinements;

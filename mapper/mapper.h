@@ -6,6 +6,7 @@
 // deterministic; the hs-mapper process and hs-run --with-mapper drive it.
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -13,6 +14,7 @@
 
 #include "common/calib/camera_calib.h"
 #include "common/core/map_correction.h"
+#include "mapper/full_ba.h"
 #include "mapper/inertial_refinement.h"
 #include "mapper/keyframe_culling.h"
 #include "mapper/keyframe_graph.h"
@@ -37,6 +39,7 @@ struct MapperOptions {
   InertialRefinementOptions inertial;
   LoopDetectionOptions loop;
   LoopClosingOptions loop_closing;
+  FullBaOptions full_ba;  // after a loop closure or a merge
   // Points of a revisited place found again in the new keyframe are fused with it (after a
   // loop or merge, and for every keyframe covisible with one at least loop.min_age_s older or
   // loaded): the two passes then share points and every local BA holds them together.
@@ -87,6 +90,8 @@ struct MapperCounters {
   int64_t loops_detected = 0;
   int64_t loops_closed = 0;         // pose graph run, map corrected
   int64_t maps_merged = 0;          // a world moved onto another it was found in
+  int64_t full_bas = 0;             // applied
+  int64_t full_bas_discarded = 0;   // a loop or merge came while it ran: started again
   int64_t points_fused = 0;         // points found to be another, merged
   int64_t fusion_observations = 0;  // free keypoints that found a map point
 };
@@ -103,6 +108,8 @@ struct MapperStep {
   std::optional<LoopFound> loop;
   std::optional<LoopClosureStats> closure;  // when the loop was closed
   bool merged = false;                      // the loop merged the query's world into another
+  std::optional<LocalBaStats> full_ba;      // when a full BA's result was applied
+  FullBaApplied full_ba_applied;
   int fused_points = 0;
   std::string message;  // what was dropped and why, if anything
 };
@@ -112,6 +119,11 @@ class Mapper {
   Mapper(const StereoCalib& calib, const MapperOptions& options);
 
   MapperStep add_keyframe(MapperKeyframe keyframe);
+  // A full BA running in the background (see FullBaOptions)?
+  bool full_ba_running() const { return full_ba_.has_value(); }
+  // Applies a full BA that has finished (or waits for it when `wait`) and returns the world's
+  // correction, between keyframes: e.g. when the vehicle stands still, or at the end of a run.
+  MapperStep finish_full_ba(bool wait);
 
   // The map as it is now (mapper_map_file.cpp), and a mapper started from one: its keyframes,
   // points, closed loops and gravity, as a world of its own (ids moved out of the way of the
@@ -131,6 +143,10 @@ class Mapper {
  private:
   void refine_inertial(int64_t newest, MapperStep& step);
   void detect_loop(int64_t id, MapperStep& step);
+  // Starts a full BA of `id`'s world; one already running is discarded when it ends.
+  void start_full_ba(int64_t id);
+  // Applies a finished full BA to the graph (or waits for it); true when it did.
+  bool apply_finished_full_ba(bool wait, MapperStep& step);
   // Runs the pose graph for step.loop if its correction is worth it; true when it did.
   bool close_loop(MapperStep& step);
   // Every keyframe of `id`'s world and the points of its newest keyframes, as they are now.
@@ -160,6 +176,14 @@ class Mapper {
   StereoCalib calib_;
   KeyframeGraph graph_;
   LocalBundleAdjuster ba_;
+  LocalBundleAdjuster full_ba_solver_;
+  struct RunningFullBa {
+    int64_t keyframe = -1;  // started after this keyframe's loop or merge
+    LocalBaInput input;     // the snapshot
+    std::future<LocalBaResult> result;
+    bool stale = false;  // a loop or merge moved the world since: run again when it ends
+  };
+  std::optional<RunningFullBa> full_ba_;
   LoopDetector loops_;
   MapperCounters counters_;
   Eigen::Vector3d g_w_ = default_gravity_w();

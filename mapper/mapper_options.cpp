@@ -140,6 +140,15 @@ MapperConfig load_mapper_config(const std::string& path) {
       s.fail("enabled", "loop closing options out of range");
     o.loop_correction_point_keyframes = static_cast<size_t>(points);
   });
+  top.section("full_ba", [&](ConfigSection& s) {
+    FullBaOptions& f = o.full_ba;
+    s.read("enabled", f.enabled);
+    s.read("background", f.background);
+    s.read("iterations_per_round", f.iterations_per_round);
+    s.read("time_budget_ms", f.time_budget_ms);
+    if (f.iterations_per_round < 1 || !(f.time_budget_ms > 0))
+      s.fail("enabled", "full BA options out of range");
+  });
   top.section("fusion", [&](ConfigSection& s) {
     PointFusionOptions& f = o.fusion;
     s.read("enabled", o.fuse_revisits);

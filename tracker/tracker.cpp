@@ -681,13 +681,30 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
     return;
   }
   const bool first = state_ == TrackState::kInitialising;
+  // A short loss the IMU bridged without a gap (a camera blackout, a dark passage): the pose the
+  // new local map starts from is the old map's, dead-reckoned, and the map id stays. Its first
+  // keyframe names no previous one: an IMU factor over the whole loss, from the last keyframe's
+  // state, pulled the mapper's new keyframes 8 cm / 1.3 deg off the tracker's dead reckoning
+  // (blackout scenario: ATE 1.17 cm instead of 0.75). After a longer loss, or across an IMU
+  // gap, the start has no link to the old map: a new epoch.
+  const std::shared_ptr<Keyframe> last_kf = first ? nullptr : map_.latest_keyframe();
+  bool continues = false;
+  if (last_kf && frame.t_ns - last_tracked_t_ns_ <= options_.continue_map_within_ns) {
+    ImuBias bias;
+    bias.gyro = nav.gyro_bias;
+    bias.accel = nav.accel_bias;
+    continues = imu_usable(preintegrate(imu_.window(last_kf->state.t_ns, frame.t_ns),
+                                        last_kf->state.t_ns, frame.t_ns, bias, options_.imu));
+  }
   map_ = std::move(trial_map);
   map_.add_keyframe(kf);
   ++counters_.keyframes;
   if (!first) {
-    // The dead-reckoned pose the new map starts from has no link to the old map: a new epoch.
     ++counters_.reinitialisations;
-    ++map_id_;
+    if (continues)
+      ++counters_.maps_continued;
+    else
+      ++map_id_;
   }
   state_ = TrackState::kTracking;
   lost_since_ns_ = -1;
@@ -712,7 +729,10 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   r.message += (r.message.empty() ? "" : "; ") +
                std::string(first ? "map initialised" : "new local map started in place") +
                " with " + std::to_string(stats.new_points) + " stereo points" +
-               (first ? "" : ": map id now " + std::to_string(map_id_));
+               (first       ? ""
+                : continues ? ": map id " + std::to_string(map_id_) +
+                                  " continues, the IMU carried the pose over the loss"
+                            : ": map id now " + std::to_string(map_id_));
   LastFrame lf;
   lf.t_ns = frame.t_ns;
   lf.pyramid = pyr;

@@ -38,10 +38,11 @@ struct TrackerCounters {
   int64_t relocalisations = 0;
   int64_t relocalisations_rejected = 0;  // too far from the IMU prediction
   int64_t frames_without_imu = 0;        // IMU gap or IMU behind: tracked on vision alone
-  int64_t reinitialisations = 0;
-  int64_t corrections_applied = 0;  // mapper corrections (MAP_UPDATE)
-  int64_t corrections_ignored = 0;  // for another map id, or no keyframe the tracker still has
-  int64_t correction_jumps = 0;     // applied, but moved the pose enough to change the map id
+  int64_t reinitialisations = 0;         // local maps started in place after a loss
+  int64_t maps_continued = 0;            // ... of them continuing the map (short loss, IMU bridged)
+  int64_t corrections_applied = 0;       // mapper corrections (MAP_UPDATE)
+  int64_t corrections_ignored = 0;       // for another map id, or no keyframe the tracker still has
+  int64_t correction_jumps = 0;          // applied, but moved the pose enough to change the map id
   // Sensor time from the newest keyframe a correction corrects to the frame it is applied after:
   // how stale the mapper's corrections are (0 in process; the mapper's latency over LCM).
   int64_t last_correction_lag_ms = 0;

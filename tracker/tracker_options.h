@@ -66,7 +66,11 @@ struct TrackerOptions {
   int max_new_points_per_keyframe = 200;
   int new_point_cell_px = 24;  // new points only in cells without a tracked point
   int reloc_min_inliers = 25;
-  int64_t reinit_after_lost_ns = 500'000'000;      // then start a new local map in place
+  int64_t reinit_after_lost_ns = 500'000'000;  // then start a new local map in place
+  // ... which continues the map (same map id: the pose was dead-reckoned by the IMU) when
+  // tracking was lost for at most this long and the IMU has no gap since the last keyframe (the
+  // IMU buffer keeps 5 s). As ORB-SLAM3's "recently lost" window.
+  int64_t continue_map_within_ns = 3'000'000'000;
   int64_t max_camera_imu_offset_ns = 200'000'000;  // frame vs newest IMU sample
   int64_t static_init_window_ns = 1'000'000'000;
   // Moving start: visual tracking this long before vision and IMU are aligned.

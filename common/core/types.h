@@ -38,6 +38,13 @@ inline NavState rotated(const NavState& x, const Eigen::Matrix3d& R_new_old) {
   return y;
 }
 
+// The same state in a world frame moved by T_new_old.
+inline NavState transformed(const NavState& x, const Eigen::Isometry3d& T_new_old) {
+  NavState y = rotated(x, T_new_old.linear());
+  y.p_w_b += T_new_old.translation();
+  return y;
+}
+
 constexpr double kNsPerSec = 1e9;
 inline double ns_to_s(int64_t t_ns) {
   return static_cast<double>(t_ns) * 1e-9;

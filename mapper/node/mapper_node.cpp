@@ -161,41 +161,59 @@ void MapperNode::save_map(int64_t seq, const std::string& path) {
 
 void MapperNode::run() {
   for (;;) {
-    MapperKeyframe kf;
+    std::optional<MapperKeyframe> kf;
     std::optional<std::pair<int64_t, std::string>> save;
+    bool closing = false;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      ready_.wait(lock, [&] { return closed_ || !queue_.empty() || !save_requests_.empty(); });
+      const auto woken = [&] { return closed_ || !queue_.empty() || !save_requests_.empty(); };
+      // A full BA running in the background lands as soon as it ends, keyframes or not (the
+      // vehicle may be standing still).
+      if (mapper_.full_ba_running())
+        ready_.wait_for(lock, std::chrono::milliseconds(50), woken);
+      else
+        ready_.wait(lock, woken);
       if (!save_requests_.empty()) {
         save = std::move(save_requests_.front());
         save_requests_.pop_front();
-      } else if (queue_.empty()) {
-        return;
-      } else {
+      } else if (!queue_.empty()) {
         kf = std::move(queue_.front());
         queue_.pop_front();
+      } else {
+        closing = closed_;
       }
     }
     if (save) {
       save_map(save->first, save->second);
       continue;
     }
-    const auto start = std::chrono::steady_clock::now();
-    MapperStep step = mapper_.add_keyframe(std::move(kf));
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (step.correction) {
-      const hsslam::map_update_t msg = map_update_to_msg(*step.correction);
-      lcm_.publish(node_options_.channels.map_update, &msg);
+    if (!kf) {
+      // Between keyframes, and at the end: the map saved after stop() has the full BA in it.
+      publish(mapper_.finish_full_ba(closing), 0.0, false);
+      if (closing) return;
+      continue;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++stats_.keyframes_mapped;
-    stats_.updates_published += step.correction.has_value();
-    stats_.mapping_ms += ms;
-    mapper_counters_ = mapper_.counters();
-    graph_counters_ = mapper_.graph().counters();
-    if (!step.message.empty()) last_message_ = step.message;
+    const auto start = std::chrono::steady_clock::now();
+    MapperStep step = mapper_.add_keyframe(std::move(*kf));
+    publish(
+        step,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
+        true);
   }
+}
+
+void MapperNode::publish(const MapperStep& step, double ms, bool keyframe) {
+  if (step.correction) {
+    const hsslam::map_update_t msg = map_update_to_msg(*step.correction);
+    lcm_.publish(node_options_.channels.map_update, &msg);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.keyframes_mapped += keyframe;
+  stats_.updates_published += step.correction.has_value();
+  stats_.mapping_ms += ms;
+  mapper_counters_ = mapper_.counters();
+  graph_counters_ = mapper_.graph().counters();
+  if (!step.message.empty()) last_message_ = step.message;
 }
 
 void MapperNode::publish_heartbeat(int8_t state) {
@@ -226,6 +244,7 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"loops_detected", m.loops_detected},
       {"loops_closed", m.loops_closed},
       {"maps_merged", m.maps_merged},
+      {"full_bas", m.full_bas},
       {"points_fused", m.points_fused},
       {"places_implausible", m.places_implausible},
       {"duplicate_keyframes", g.duplicates},

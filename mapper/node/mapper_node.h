@@ -6,8 +6,9 @@
 // says "save request <seq>: ..." (the file and its size, or why it failed).
 //
 // Threads: the receive thread (lcm.handle()) decodes and validates keyframes and queues them;
-// it never waits for the mapper. The worker owns the Mapper. The backlog is unbounded (every
-// keyframe matters to the map) but measured: its depth is in every HEARTBEAT, its maximum in
+// it never waits for the mapper. The worker owns the Mapper, whose full BA after a loop runs in
+// a thread of its own; the worker sends its correction as soon as it ends. The backlog is unbounded
+// (every keyframe matters to the map) but measured: its depth is in every HEARTBEAT, its maximum in
 // stats(). A restarted mapper starts from the keyframes that arrive; its update numbers start
 // at 0 again, which the tracker recognises as a restart.
 #include <condition_variable>
@@ -71,6 +72,8 @@ class MapperNode {
   // Worker thread: a SAVE request between two keyframes; answered by a heartbeat.
   void save_map(int64_t seq, const std::string& path);
   void run();
+  // Sends the step's correction (if any) and takes its counters and message.
+  void publish(const MapperStep& step, double ms, bool keyframe);
   void publish_heartbeat(int8_t state);
 
   lcm::LCM& lcm_;

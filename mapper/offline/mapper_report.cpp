@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -18,6 +19,11 @@ void MapperRunStats::add(const MapperStep& step) {
   if (step.loop_query) loop_query_ms.push_back(step.loop_query->time_ms);
   if (step.loop) loops.push_back(*step.loop);
   if (step.closure) pose_graph_ms.push_back(step.closure->graph.time_ms);
+  if (step.full_ba) {
+    full_ba_ms.push_back(step.full_ba->time_ms);
+    full_ba_keyframes.push_back(step.full_ba_applied.keyframes);
+    full_ba_points.push_back(step.full_ba_applied.points);
+  }
   if (step.ba.rounds == 0) return;
   ba_ms.push_back(step.ba.time_ms);
   ba_cpu_ms.push_back(step.ba.cpu_ms);
@@ -25,6 +31,13 @@ void MapperRunStats::add(const MapperStep& step) {
   window_points.push_back(step.window_points);
   window_observations.push_back(step.window_observations);
   ba_iterations.push_back(step.ba.iterations);
+}
+
+MapperOptions reproducible(MapperOptions options) {
+  options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
+  options.full_ba.time_budget_ms = std::numeric_limits<double>::infinity();
+  options.full_ba.background = false;
+  return options;
 }
 
 BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose) {
@@ -36,6 +49,10 @@ BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose)
     if (step.correction) out.push_back(std::move(*step.correction));
     return out;
   };
+}
+
+void finish_back_end(Mapper& mapper, MapperRunStats& stats) {
+  stats.add(mapper.finish_full_ba(true));
 }
 
 void write_loops_csv(const std::string& path, const MapperRunStats& stats) {
@@ -108,6 +125,9 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB); maps merged "
     << counters.maps_merged << ", points fused " << counters.points_fused
     << ", observations found again " << counters.fusion_observations << "\n";
+  o << "full BA: " << counters.full_bas << " applied (" << counters.full_bas_discarded
+    << " discarded), median " << time_stats(stats.full_ba_ms).median << " ms over "
+    << mean(stats.full_ba_keyframes) << " keyframes, " << mean(stats.full_ba_points) << " points\n";
   o << "corrections applied " << corrections << ": pose moved median " << shift.median
     << " mm, p95 " << shift.p95 << " mm, max " << shift.max << " mm; ignored "
     << result.counters.corrections_ignored << ", stated jumps (new map id) "

@@ -16,13 +16,24 @@ struct MapperRunStats {
   std::vector<double> window_keyframes, window_points, window_observations, ba_iterations;
   std::vector<double> loop_query_ms;  // place index query + verification, per keyframe
   std::vector<double> pose_graph_ms;  // per loop closed
+  std::vector<double> full_ba_ms;     // per full BA applied (wall time in its thread)
+  std::vector<double> full_ba_keyframes, full_ba_points;
   std::vector<LoopFound> loops;
   void add(const MapperStep& step);
 };
 
+// The options for a run that gives the same result every time: every bundle adjustment runs to
+// its iteration limit however long it takes, and a full BA's result lands at the keyframe after
+// its loop (it still runs in its own thread meanwhile).
+MapperOptions reproducible(MapperOptions options);
+
 // Feeds each KEYFRAME message to `mapper` (decoded and validated as hs-mapper would) and returns
 // its correction; both must outlive the back end. Mapper messages go to stderr when verbose.
 BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose = false);
+
+// At the end of a run: applies the full BA still running, if one is (its correction reaches
+// no tracker: the final trajectory is on the mapper's keyframe poses).
+void finish_back_end(Mapper& mapper, MapperRunStats& stats);
 
 // One line per detected loop: keyframe times, the measured T_c_q (x y z qx qy qz qw), inliers,
 // path since the candidate and the correction it implied.

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -100,8 +99,7 @@ int main(int argc, char** argv) {
         throw hs::InputError("--localisation-only", "needs a map to localise in (--load-map)");
       mapper_options.localisation_only = mapper_options.localisation_only || localise;
       // Reproducible: the tracker waits for each bundle adjustment to finish, however long.
-      mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
-      mapper.emplace(options.calib, mapper_options);
+      mapper.emplace(options.calib, hs::reproducible(mapper_options));
       if (!load_map.empty()) mapper->load(hs::read_map_file(load_map));
       run_options.back_end = hs::in_process_back_end(*mapper, mapper_stats, verbose);
     }
@@ -109,6 +107,7 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out_dir);
     std::cout << hs::write_run_outputs(out_dir, result);
     if (mapper) {
+      hs::finish_back_end(*mapper, mapper_stats);
       hs::write_loops_csv(out_dir + "/loops.csv", mapper_stats);
       std::cout << hs::mapper_text(mapper_stats, *mapper, result);
       std::cout << hs::final_trajectory_text(out_dir, result, *mapper);

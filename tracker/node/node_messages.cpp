@@ -27,6 +27,7 @@ std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBu
           {"relocalisations", t.relocalisations},
           {"relocalisations_rejected", t.relocalisations_rejected},
           {"reinitialisations", t.reinitialisations},
+          {"maps_continued", t.maps_continued},
           {"corrections_applied", t.corrections_applied},
           {"corrections_ignored", t.corrections_ignored},
           {"correction_jumps", t.correction_jumps},

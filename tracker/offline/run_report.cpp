@@ -267,8 +267,8 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   count_states(result, tracked, lost);
   o << "frames " << result.frames.size() << " (tracked " << tracked << ", lost " << lost
     << "), keyframes " << c.keyframes << ", relocalisations " << c.relocalisations
-    << " (rejected by the IMU gate " << c.relocalisations_rejected << "), new maps "
-    << c.reinitialisations << "\n";
+    << " (rejected by the IMU gate " << c.relocalisations_rejected << "), local maps restarted "
+    << c.reinitialisations << " (" << c.maps_continued << " continuing the map)\n";
   o << "rejected frames: out-of-order " << c.rejected_out_of_order << ", bad image "
     << c.rejected_bad_image << ", IMU clock " << c.rejected_clock_offset
     << "; missing right images " << c.missing_right_image << "; IMU gaps bridged " << c.imu_gaps

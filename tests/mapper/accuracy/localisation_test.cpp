@@ -8,7 +8,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 
 #include "mapper/mapper.h"
 #include "mapper/offline/mapper_report.h"
@@ -32,9 +31,8 @@ Lap drive(double skip_s, double duration_s, const MapFile* map) {
   TrackerOptions options;
   options.calib = s.camera.calib;
   MapperOptions mapper_options;
-  mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();
   mapper_options.localisation_only = map != nullptr;
-  Mapper mapper(options.calib, mapper_options);
+  Mapper mapper(options.calib, reproducible(mapper_options));
   if (map) mapper.load(*map);
   MapperRunStats stats;
   OfflineRunOptions run_options;
@@ -43,6 +41,7 @@ Lap drive(double skip_s, double duration_s, const MapFile* map) {
   sim::DatasetGenerator gen(s);
   Lap lap;
   lap.result = run_offline(options, sim_source(gen), run_options);
+  finish_back_end(mapper, stats);
   lap.final_estimate =
       lap.result.keyframe_relative_estimate([&](int64_t id) { return mapper.keyframe_pose(id); });
   lap.counters = mapper.counters();

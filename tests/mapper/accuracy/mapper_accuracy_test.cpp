@@ -2,8 +2,6 @@
 // simulated flight, with hs-eval's metrics.
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include "mapper/mapper.h"
 #include "mapper/offline/mapper_report.h"
 #include "tracker/offline/run_report.h"
@@ -31,9 +29,7 @@ TrackerOptions tracker_options(const sim::Scenario& s) {
 
 void run_with_mapper(const sim::Scenario& s, Runs* runs) {
   const TrackerOptions options = tracker_options(s);
-  MapperOptions mapper_options;
-  mapper_options.ba.time_budget_ms = std::numeric_limits<double>::infinity();  // as hs-run
-  Mapper mapper(options.calib, mapper_options);
+  Mapper mapper(options.calib, reproducible({}));  // as hs-run
   MapperRunStats stats;
   OfflineRunOptions run_options;
   run_options.back_end = in_process_back_end(mapper, stats);

@@ -1,0 +1,49 @@
+#pragma once
+// Full bundle adjustment (paper Fig. 4, as ORB-SLAM3's global BA after a loop): every keyframe
+// and point of one world, with the IMU chain, after a loop closure or a map merge has bent the
+// world by a pose graph. It runs on a snapshot of the graph in a thread of its own while local
+// mapping goes on; its result then meets a graph that has moved on (new keyframes and points,
+// local BAs), so each keyframe and point takes it as a correction (see apply_full_ba).
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+
+#include "mapper/keyframe_graph.h"
+#include "mapper/local_ba.h"
+#include "mapper/window_input.h"
+
+namespace hs {
+
+struct FullBaOptions {
+  bool enabled = true;
+  // In a thread of its own, applied at the first keyframe after it finished. false: the next
+  // keyframe waits for it, so the result lands at the same keyframe on every run (hs-run's
+  // in-process back end, tests).
+  bool background = true;
+  int iterations_per_round = 10;  // two rounds: the second without the first's chi2 outliers
+  double time_budget_ms = 60000.0;
+};
+
+// The problem over every keyframe of `world` (the oldest holds the gauge) and every point two
+// of them see, all free (no far-point holding: the whole world constrains them), gravity held.
+// Keyframes `frozen` names (a loaded map in localisation-only mode) are held fixed.
+LocalBaInput full_ba_input(const KeyframeGraph& graph, int32_t world, const Eigen::Vector3d& g_w,
+                           WindowInputOptions options,
+                           const std::function<bool(int64_t)>& frozen = nullptr);
+
+struct FullBaApplied {
+  int keyframes = 0;        // optimised, still in the graph
+  int keyframes_moved = 0;  // added since the snapshot: moved with the newest optimised one
+  int points = 0;
+  int points_moved = 0;  // added since, moved with the keyframe that first saw them
+};
+
+// Applies `result` of `input` (a snapshot of `graph`) to the graph as it is now. A keyframe or
+// point unchanged since takes the result; one a local BA moved since, or one added since, is
+// moved by its correction (result * snapshot^-1: a keyframe's own, a new keyframe's newest
+// optimised keyframe of its world, a point's first observer's). Keyframes and points removed
+// since are skipped.
+FullBaApplied apply_full_ba(KeyframeGraph& graph, const LocalBaInput& input,
+                            const LocalBaResult& result);
+
+}  // namespace hs
