@@ -189,26 +189,51 @@ struct TranslationalSystem {
   Eigen::VectorXd r;
   int num_states = 0;   // columns of the positions and velocities
   int num_gravity = 0;  // columns of y
+  int scale_col = -1;   // the scale's column (last) when it is free
 };
 
-TranslationalSystem build_translational(const std::vector<TimedPose>& poses,
+// The vision positions as a prior on the body positions: p_i = s * a_i + b_i, with s = 1 (a the
+// metric positions, b zero) or a free scale (a the up-to-scale camera positions, b the metric
+// camera-to-body lever arm in the world).
+struct PositionPrior {
+  std::vector<Eigen::Vector3d> a, b;
+  bool free_scale = false;
+};
+
+PositionPrior metric_prior(const std::vector<TimedPose>& poses) {
+  PositionPrior prior;
+  for (const TimedPose& pose : poses) {
+    prior.a.push_back(pose.T_w_b.translation());
+    prior.b.push_back(Eigen::Vector3d::Zero());
+  }
+  return prior;
+}
+
+TranslationalSystem build_translational(const PositionPrior& prior,
                                         const std::vector<Eigen::Matrix3d>& R_w_b,
                                         const std::vector<ImuPreintegration>& pims,
                                         const Eigen::Vector3d& g0, const Eigen::MatrixXd& M,
                                         bool with_accel_bias, const ViAlignmentOptions& options) {
-  const int n = static_cast<int>(poses.size());
+  const int n = static_cast<int>(prior.a.size());
   TranslationalSystem s;
   s.num_states = 6 * n;
   s.num_gravity = static_cast<int>(M.cols());
   const int g_col = s.num_states, ba_col = s.num_states + s.num_gravity;
-  s.J.setZero(3 * n + 6 * (n - 1), ba_col + (with_accel_bias ? 3 : 0));
+  const int cols = ba_col + (with_accel_bias ? 3 : 0);
+  if (prior.free_scale) s.scale_col = cols;
+  s.J.setZero(3 * n + 6 * (n - 1), cols + (prior.free_scale ? 1 : 0));
   s.r.setZero(s.J.rows());
   const double sigma_p = std::sqrt(
       options.vision_position_sigma_m * options.vision_position_sigma_m + kCovarianceFloor);
   const double var_R = options.vision_rotation_sigma_rad * options.vision_rotation_sigma_rad;
   for (int i = 0; i < n; ++i) {
     s.J.block<3, 3>(3 * i, 3 * i).diagonal().setConstant(1.0 / sigma_p);
-    s.r.segment<3>(3 * i) = -poses[i].T_w_b.translation() / sigma_p;
+    if (prior.free_scale) {
+      s.J.block<3, 1>(3 * i, s.scale_col) = -prior.a[i] / sigma_p;
+      s.r.segment<3>(3 * i) = -prior.b[i] / sigma_p;
+    } else {
+      s.r.segment<3>(3 * i) = -(prior.a[i] + prior.b[i]) / sigma_p;
+    }
   }
   for (int k = 0; k + 1 < n; ++k) {
     const ImuPreintegration& pim = pims[k];
@@ -258,7 +283,7 @@ struct SphereSolution {
 
 // Gauss-Newton on the gravity direction; positions, velocities and accel bias enter linearly
 // and are re-solved with it. Returns the solution at the final direction (tilt update ~0).
-SphereSolution refine_on_sphere(const std::vector<TimedPose>& poses,
+SphereSolution refine_on_sphere(const PositionPrior& prior,
                                 const std::vector<Eigen::Matrix3d>& R_w_b,
                                 const std::vector<ImuPreintegration>& pims,
                                 const Eigen::Vector3d& dir0, bool with_accel_bias,
@@ -270,7 +295,7 @@ SphereSolution refine_on_sphere(const std::vector<TimedPose>& poses,
     const Eigen::Matrix<double, 3, 2> B = tangent_basis(out.dir);
     // g(theta) = G Exp(B theta) dir ~= G dir - G hat(dir) B theta.
     const Eigen::MatrixXd M = -G * so3::hat(out.dir) * B;
-    out.system = build_translational(poses, R_w_b, pims, G * out.dir, M, with_accel_bias, options);
+    out.system = build_translational(prior, R_w_b, pims, G * out.dir, M, with_accel_bias, options);
     out.x = solve_least_squares(out.system.J, out.system.r);
     const Eigen::Vector2d theta = out.x.segment<2>(out.system.num_states);
     if (it == options.gravity_iterations || theta.norm() < kConvergedStep) return out;
@@ -287,9 +312,12 @@ std::string describe_failure(const char* what, const Eigen::Vector3d& value, con
 
 }  // namespace
 
-ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
-                                        const std::vector<ImuPreintegration>& input_pims,
-                                        const ViAlignmentOptions& options) {
+namespace {
+
+// `poses` give the attitudes, `prior` the positions.
+ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior& prior,
+                        const std::vector<ImuPreintegration>& input_pims,
+                        const ViAlignmentOptions& options) {
   ViAlignmentResult out;
   out.reason = validate(poses, input_pims);
   if (!out.reason.empty()) return out;
@@ -313,9 +341,20 @@ ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
 
   // (2) Positions, velocities and unconstrained gravity.
   const TranslationalSystem linear = build_translational(
-      poses, rot.R_w_b, pims, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), false, options);
-  const Eigen::Vector3d g_free =
-      solve_least_squares(linear.J, linear.r).segment<3>(linear.num_states);
+      prior, rot.R_w_b, pims, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), false, options);
+  const Eigen::VectorXd x_free = solve_least_squares(linear.J, linear.r);
+  const Eigen::Vector3d g_free = x_free.segment<3>(linear.num_states);
+  if (prior.free_scale) {
+    // Scale comes from accelerations only: without enough of them it is not observed.
+    const double scale = x_free(linear.scale_col);
+    const double sigma = largest_sigma(keep_block(normal_matrix(linear.J), linear.scale_col, 1));
+    if (!(scale > 0.0) || !(sigma <= options.max_scale_sigma * scale)) {
+      std::ostringstream why;
+      why << "not enough acceleration: scale " << scale << " +- " << sigma;
+      out.reason = why.str();
+      return out;
+    }
+  }
   out.gravity_norm_unconstrained = g_free.norm();
   if (!g_free.allFinite() || std::abs(g_free.norm() - G) > options.max_gravity_norm_error) {
     out.reason =
@@ -325,11 +364,11 @@ ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
   }
 
   // (3) Gravity on the sphere, then with the accel bias if the window separates the two.
-  SphereSolution sol = refine_on_sphere(poses, rot.R_w_b, pims, g_free, false, options);
+  SphereSolution sol = refine_on_sphere(prior, rot.R_w_b, pims, g_free, false, options);
   const int tilt_col = sol.system.num_states;
   if (options.estimate_accel_bias) {
     const TranslationalSystem probe =
-        build_translational(poses, rot.R_w_b, pims, G * sol.dir,
+        build_translational(prior, rot.R_w_b, pims, G * sol.dir,
                             -G * so3::hat(sol.dir) * tangent_basis(sol.dir), true, options);
     // Tilt and bias information, the tilt scaled to m/s^2 (G * theta) to compare the two.
     Eigen::MatrixXd info = keep_block(normal_matrix(probe.J), tilt_col, 5);
@@ -339,9 +378,9 @@ ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
     out.gravity_accel_bias_conditioning = eig(4) > 0.0 ? std::max(eig(0), 0.0) / eig(4) : 0.0;
     out.accel_bias_sigma = largest_sigma(keep_block(info, 2, 3));
     if (out.accel_bias_sigma <= options.max_accel_bias_sigma) {
-      sol = refine_on_sphere(poses, rot.R_w_b, pims, sol.dir, true, options);
+      sol = refine_on_sphere(prior, rot.R_w_b, pims, sol.dir, true, options);
       out.accel_bias_estimated = true;
-      out.accel_bias = start.accel + sol.x.tail<3>();
+      out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
     } else {
       out.weak_excitation = true;
     }
@@ -353,9 +392,13 @@ ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
   const TranslationalSystem& s = sol.system;
   out.tilt_sigma_rad = largest_sigma(keep_block(normal_matrix(s.J), tilt_col, 2));
   out.translation_chi2_per_dof = per_dof((s.J * sol.x + s.r).squaredNorm(), s.J.rows(), s.J.cols());
+  if (prior.free_scale) {
+    out.scale = sol.x(s.scale_col);
+    out.scale_sigma = largest_sigma(keep_block(normal_matrix(s.J), s.scale_col, 1));
+  }
   double position_sq = 0.0;
   for (int i = 0; i < n; ++i) {
-    position_sq += (sol.x.segment<3>(3 * i) - poses[i].T_w_b.translation()).squaredNorm();
+    position_sq += (sol.x.segment<3>(3 * i) - out.scale * prior.a[i] - prior.b[i]).squaredNorm();
     out.v_w.push_back(sol.x.segment<3>(3 * n + 3 * i));
   }
   out.position_correction_rms_m = std::sqrt(position_sq / n);
@@ -364,6 +407,30 @@ ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
   out.R_wg_w = Eigen::Quaterniond::FromTwoVectors(sol.dir, default_gravity_w()).toRotationMatrix();
   out.ok = true;
   return out;
+}
+
+}  // namespace
+
+ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
+                                        const std::vector<ImuPreintegration>& pims,
+                                        const ViAlignmentOptions& options) {
+  return align(poses, metric_prior(poses), pims, options);
+}
+
+ViAlignmentResult align_visual_inertial_up_to_scale(const std::vector<TimedPose>& camera_poses,
+                                                    const Eigen::Isometry3d& T_b_c,
+                                                    const std::vector<ImuPreintegration>& pims,
+                                                    const ViAlignmentOptions& options) {
+  const Eigen::Isometry3d T_c_b = T_b_c.inverse();
+  std::vector<TimedPose> body;
+  PositionPrior prior;
+  prior.free_scale = true;
+  for (const TimedPose& c : camera_poses) {
+    body.push_back({c.t_ns, c.T_w_b * T_c_b});
+    prior.a.push_back(c.T_w_b.translation());
+    prior.b.push_back(c.T_w_b.linear() * T_c_b.translation());
+  }
+  return align(body, prior, pims, options);
 }
 
 }  // namespace hs

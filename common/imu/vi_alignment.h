@@ -1,7 +1,8 @@
 #pragma once
 // Visual-inertial alignment for a start in motion: gyro bias, per-pose velocities, gravity (and,
 // when the window observes it, the accelerometer bias) from a short window of metric body poses
-// (stereo vision) and the IMU preintegrations between consecutive poses. No scale is estimated.
+// (stereo vision) and the IMU preintegrations between consecutive poses; or, from mono poses known
+// up to scale, the scale too.
 //
 // Method, as a maximum a posteriori estimate with each vision pose an independent prior:
 // (1) attitudes and gyro bias by Gauss-Newton on the vision attitudes and the rotation residuals
@@ -9,7 +10,9 @@
 // unconstrained gravity vector by weighted linear least squares on the vision positions and
 // the velocity and position equations of each pair; (3) gravity refined on the sphere |g| = G
 // with a 2-DoF tangent update, with the accel bias added when its marginal uncertainty is small
-// enough. The IMU equations are weighted by the preintegration covariances.
+// enough. The IMU equations are weighted by the preintegration covariances. For a mono camera
+// the vision positions carry an unknown scale, one more unknown of step (2) (as in Mur-Artal
+// and Tardos' visual-inertial monocular initialisation).
 //
 // Limits: the window must be short enough for a constant bias and the vision poses must be
 // metric and drift-free over it. Without rotation the accel bias cannot be told from a gravity
@@ -35,7 +38,8 @@ struct TimedPose {
 
 struct ViAlignmentOptions {
   double gravity_magnitude = kGravityMagnitude;  // G, m/s^2
-  // Vision pose noise, independent between poses: the weight of each pose as a prior.
+  // Vision pose noise, independent between poses: the weight of each pose as a prior. Metric
+  // also up to scale (the prior's residual is the metric position's).
   double vision_position_sigma_m = 0.005;
   double vision_rotation_sigma_rad = 0.002;
   int gyro_bias_iterations = 5;
@@ -47,6 +51,9 @@ struct ViAlignmentOptions {
   // Sanity checks that refuse the window.
   double max_gyro_bias_norm = 0.3;      // rad/s
   double max_gravity_norm_error = 1.0;  // | |g| - G | of the unconstrained solution, m/s^2
+  // Up to scale (mono): refused as "not enough acceleration" when the scale's standard
+  // deviation in the unconstrained solution is above this share of it.
+  double max_scale_sigma = 0.05;
 };
 
 struct ViAlignmentResult {
@@ -59,6 +66,9 @@ struct ViAlignmentResult {
   // The window cannot separate accel bias from gravity tilt (too little rotation); gravity was
   // estimated with the accel bias held at the preintegrations' linearisation value.
   bool weak_excitation = false;
+  // Up to scale: metric = scale * vision (1 for metric poses), and its standard deviation.
+  double scale = 1.0;
+  double scale_sigma = 0.0;
 
   std::vector<Eigen::Vector3d> v_w;                      // body velocity at each pose, vision world
   Eigen::Vector3d g_w = Eigen::Vector3d::Zero();         // gravity in the vision world, |g_w| = G
@@ -89,5 +99,14 @@ struct ViAlignmentResult {
 ViAlignmentResult align_visual_inertial(const std::vector<TimedPose>& poses,
                                         const std::vector<ImuPreintegration>& pims,
                                         const ViAlignmentOptions& options = {});
+
+// The same from a mono camera's poses, known up to scale: `camera_poses` are T_w_c (in the
+// TimedPose's T_w_b field) with positions s times too small, T_b_c the metric extrinsic. The
+// scale is estimated with the rest (velocities and positions in the result are metric); a
+// window without enough acceleration to observe it is refused.
+ViAlignmentResult align_visual_inertial_up_to_scale(const std::vector<TimedPose>& camera_poses,
+                                                    const Eigen::Isometry3d& T_b_c,
+                                                    const std::vector<ImuPreintegration>& pims,
+                                                    const ViAlignmentOptions& options = {});
 
 }  // namespace hs

@@ -341,6 +341,100 @@ TEST(ViAlignment, RealEurocFlightWithGroundTruthPoses) {
   }
 }
 
+// A mono camera's window: the camera poses (10 cm lever arm from the body) with positions
+// `scale` times too small.
+std::vector<TimedPose> up_to_scale(const Window& w, const Eigen::Isometry3d& T_b_c, double scale) {
+  std::vector<TimedPose> out;
+  for (const TimedPose& p : w.poses) {
+    Eigen::Isometry3d T_v_c = p.T_w_b * T_b_c;
+    T_v_c.translation() /= scale;
+    out.push_back({p.t_ns, T_v_c});
+  }
+  return out;
+}
+
+Eigen::Isometry3d camera_extrinsic() {
+  Eigen::Isometry3d T_b_c = Eigen::Isometry3d::Identity();
+  T_b_c.linear() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  T_b_c.translation() = Eigen::Vector3d(-0.02, 0.1, 0.01);
+  return T_b_c;
+}
+
+// Mono-inertial start (issue 10): 2 s of a moving start seen by a mono camera, positions 3.7
+// times too small: the scale comes back with gravity and velocities. Measured over the three
+// draws: 3.717, 3.637, 3.747 (+0.5%, -1.7%, +1.3%; sigma 0.035, 0.9%).
+TEST(ViAlignment, UpToScaleMovingStartRecoversTheScale) {
+  const AnalyticMotion motion;
+  ImuBias bias;
+  bias.gyro = {0.02, -0.015, 0.01};
+  const Noise noise{1.0, 0.001, 0.02 * kDeg};
+  constexpr double kScale = 3.7;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const Window w = make_window(motion, s_to_ns(1.0 + 0.3 * seed), 41, bias, noise, seed);
+    const ViAlignmentResult r = align_visual_inertial_up_to_scale(
+        up_to_scale(w, camera_extrinsic(), kScale), camera_extrinsic(), w.pims, options_for(noise));
+    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_NEAR(r.scale, kScale, 0.03 * kScale);
+    EXPECT_LT(std::abs(r.scale - kScale), 4.0 * r.scale_sigma + 1e-3);
+    const Errors e = errors(r, w, bias);
+    EXPECT_LT(e.tilt_deg, 0.2);
+    EXPECT_LT(e.gyro_bias, 1e-3);
+    EXPECT_LT(e.velocity, 0.03);
+    std::cout << "up to scale: scale " << r.scale << " +- " << r.scale_sigma << " (truth " << kScale
+              << "), tilt " << e.tilt_deg << " deg, velocity " << e.velocity << " m/s\n";
+  }
+}
+
+// Driving straight at constant speed: no acceleration, no scale. Refused, saying so.
+TEST(ViAlignment, UpToScaleAtConstantVelocityIsRefusedForLackOfAcceleration) {
+  UniformMotion motion;
+  motion.v_w = {2.0, 0.5, 0.0};
+  const Noise noise{1.0, 0.001, 0.02 * kDeg};
+  const Window w = make_window(motion, s_to_ns(0.5), 41, ImuBias{}, noise, 3);
+  const ViAlignmentResult r = align_visual_inertial_up_to_scale(
+      up_to_scale(w, camera_extrinsic(), 2.0), camera_extrinsic(), w.pims, options_for(noise));
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("not enough acceleration"), std::string::npos) << r.reason;
+}
+
+// Real V1_02 motion (ground-truth camera poses made up to scale, real IMU with its accel bias):
+// the scale of 4 s windows of the flight. Measured: +0.1%, +0.7%, -4.0%, +0.1%, -1.3%; 2 s
+// windows gave -6.5% to +2.0% (the accel bias, 0.14 m/s^2, is not separable in most of them),
+// 6 s windows within 1.5%.
+TEST(ViAlignment, UpToScaleRealEurocFlightRecoversTheScale) {
+  const std::string gt_path = kEuroc + "/groundtruth/V1_02_medium.csv";
+  const std::string imu_path = kEuroc + "/imu/V1_02_medium.csv";
+  if (!std::filesystem::exists(gt_path) || !std::filesystem::exists(imu_path))
+    GTEST_SKIP() << "EuRoC V1_02 ground truth / IMU not found under " << kEuroc;
+  const std::vector<NavState> gt = read_ground_truth_csv(gt_path);
+  const std::vector<ImuSample> imu = read_imu_csv(imu_path);
+  ViAlignmentOptions options;
+  options.vision_position_sigma_m = 0.002;
+  options.vision_rotation_sigma_rad = 0.02 * kDeg;
+  constexpr double kScale = 2.5;
+  constexpr size_t kWindow = 800;  // 4 s of 200 Hz ground truth
+  int solved = 0;
+  for (const double start_s : {10.0, 25.0, 40.0, 55.0, 70.0}) {
+    const size_t first = static_cast<size_t>(start_s * 200.0);
+    Window w;
+    for (size_t k = first; k <= first + kWindow; k += 10) {
+      w.poses.push_back({gt[k].t_ns, gt[k].T_w_b()});
+      if (k > first) w.pims.push_back(preintegrate(imu, gt[k - 10].t_ns, gt[k].t_ns, ImuBias{}));
+    }
+    const ViAlignmentResult r = align_visual_inertial_up_to_scale(
+        up_to_scale(w, camera_extrinsic(), kScale), camera_extrinsic(), w.pims, options);
+    std::cout << "V1_02 up to scale at " << start_s << " s: "
+              << (r.ok ? "scale " + std::to_string(r.scale) + " +- " + std::to_string(r.scale_sigma)
+                       : r.reason)
+              << " (truth " << kScale << ")\n";
+    if (!r.ok) continue;
+    ++solved;
+    EXPECT_NEAR(r.scale, kScale, 0.05 * kScale) << start_s << " s";
+  }
+  EXPECT_GE(solved, 3);
+}
+
 TEST(ViAlignment, RefusesDegenerateInput) {
   const AnalyticMotion motion;
   const Noise noise{1.0, 0.001, 0.02 * kDeg};
