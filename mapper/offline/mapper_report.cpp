@@ -23,6 +23,7 @@ void MapperRunStats::add(const MapperStep& step) {
     full_ba_ms.push_back(step.full_ba->time_ms);
     full_ba_keyframes.push_back(step.full_ba_applied.keyframes);
     full_ba_points.push_back(step.full_ba_applied.points);
+    full_ba_moved.push_back(step.full_ba_applied.keyframes_moved);
   }
   if (step.ba.rounds == 0) return;
   ba_ms.push_back(step.ba.time_ms);

@@ -18,6 +18,7 @@ struct MapperRunStats {
   std::vector<double> pose_graph_ms;  // per loop closed
   std::vector<double> full_ba_ms;     // per full BA applied (wall time in its thread)
   std::vector<double> full_ba_keyframes, full_ba_points;
+  std::vector<double> full_ba_moved;  // keyframes that arrived while it ran, moved with it
   std::vector<LoopFound> loops;
   void add(const MapperStep& step);
 };

@@ -23,7 +23,9 @@ struct LoopRun {
 };
 
 // `close_loops` false: loops are detected (and reported) but neither closed nor fused.
-LoopRun run(const std::string& name, double duration_s, bool close_loops = true) {
+// `background`: the full BA lands whenever it ends, as in hs-mapper (not reproducible).
+LoopRun run(const std::string& name, double duration_s, bool close_loops = true,
+            bool background = false) {
   sim::Scenario s = sim::load_scenario(HS_SOURCE_DIR "/config/sim/" + name + ".yaml");
   s.duration_s = duration_s;
   TrackerOptions options;
@@ -31,7 +33,9 @@ LoopRun run(const std::string& name, double duration_s, bool close_loops = true)
   MapperOptions mapper_options;
   mapper_options.loop_closing.enabled = close_loops;
   mapper_options.fuse_revisits = close_loops;
-  Mapper mapper(options.calib, reproducible(mapper_options));
+  mapper_options = reproducible(mapper_options);
+  mapper_options.full_ba.background = background;
+  Mapper mapper(options.calib, mapper_options);
   LoopRun out;
   OfflineRunOptions run_options;
   run_options.back_end = in_process_back_end(mapper, out.stats);
@@ -116,6 +120,20 @@ TEST(LoopDetection, ALookAlikeStreetClosesNoLoop) {
   std::printf("%ld look-alike places verified and refused in %ld keyframes\n",
               static_cast<long>(r.counters.places_implausible),
               static_cast<long>(r.counters.loop_queries));
+}
+
+// As hs-mapper runs it: the full BA after vehicle_loop's closure (at 51 s) in its own thread
+// while the tracker goes on as fast as it can, its result landing at the first keyframe after
+// it ended; the keyframes that arrived meanwhile move with it.
+TEST(LoopDetection, AFullBaInTheBackgroundLandsWhileMappingGoesOn) {
+  const LoopRun r = run("vehicle_loop", 58.0, true, true);
+  EXPECT_GE(r.counters.loops_closed, 1);
+  ASSERT_GE(r.counters.full_bas, 1);
+  ASSERT_FALSE(r.stats.full_ba_moved.empty());
+  EXPECT_GT(r.stats.full_ba_moved.front(), 0);
+  EXPECT_LT(r.final_ate_m, 0.02);
+  std::printf("background full BA: %.0f ms, %.0f keyframes arrived meanwhile; final ATE %.2f cm\n",
+              r.stats.full_ba_ms.front(), r.stats.full_ba_moved.front(), r.final_ate_m * 100);
 }
 
 // room_mav with 2 s of black frames from 15 s, tracker and mapper: the IMU carries the pose
