@@ -30,9 +30,12 @@ Mapper::Mapper(const StereoCalib& calib, const MapperOptions& options)
                         return o;
                       }()),
       loops_(calib, options.loop) {
-  if (options_.far_point_disparity_px > 0)
-    options_.window.fixed_point_distance_m =
-        calib.cam0.intrinsics.fx * calib.baseline() / options_.far_point_disparity_px;
+  const auto far_m = [&](double disparity_px) {
+    return disparity_px > 0 ? calib.cam0.intrinsics.fx * calib.baseline() / disparity_px : 0.0;
+  };
+  options_.window.fixed_point_distance_m = far_m(options_.far_point_disparity_px);
+  full_ba_window_ = options_.window;
+  full_ba_window_.fixed_point_distance_m = far_m(options_.full_ba.far_point_disparity_px);
 }
 
 MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
@@ -160,7 +163,7 @@ void Mapper::start_full_ba(int64_t id) {
   }
   RunningFullBa run;
   run.keyframe = id;
-  run.input = full_ba_input(graph_, graph_.world(id), g_w_, options_.window,
+  run.input = full_ba_input(graph_, graph_.world(id), g_w_, full_ba_window_,
                             [this](int64_t k) { return frozen_keyframe(k); });
   // The thread works on its own copy: the snapshot stays to tell what moved since.
   run.result = std::async(std::launch::async, [solver = &full_ba_solver_, input = run.input] {

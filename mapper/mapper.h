@@ -177,6 +177,7 @@ class Mapper {
   KeyframeGraph graph_;
   LocalBundleAdjuster ba_;
   LocalBundleAdjuster full_ba_solver_;
+  WindowInputOptions full_ba_window_;  // the window's, with the full BA's far-point distance
   struct RunningFullBa {
     int64_t keyframe = -1;  // started after this keyframe's loop or merge
     LocalBaInput input;     // the snapshot

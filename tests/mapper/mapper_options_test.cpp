@@ -57,6 +57,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.full_ba.background, d.full_ba.background);
   EXPECT_EQ(c.mapper.full_ba.iterations_per_round, d.full_ba.iterations_per_round);
   EXPECT_EQ(c.mapper.full_ba.time_budget_ms, d.full_ba.time_budget_ms);
+  EXPECT_EQ(c.mapper.full_ba.far_point_disparity_px, d.full_ba.far_point_disparity_px);
   EXPECT_EQ(c.mapper.loop.merge_worlds, d.loop.merge_worlds);
   EXPECT_EQ(c.mapper.loop.merge_in_run_m, d.loop.merge_in_run_m);
   EXPECT_NEAR(c.mapper.loop.merge_in_run_rad, d.loop.merge_in_run_rad, 1e-15);

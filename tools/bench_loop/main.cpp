@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     hs::MapperOptions mapper_options =
         mapper_config.empty() ? hs::MapperOptions{} : hs::load_mapper_config(mapper_config).mapper;
     mapper_options.window.imu = options.imu;
+    mapper_options.full_ba.enabled = true;  // its cost is one of the figures
     hs::Mapper mapper(options.calib, hs::reproducible(mapper_options));
     hs::MapperRunStats stats;
     hs::OfflineRunOptions run_options;
