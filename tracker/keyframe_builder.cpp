@@ -7,6 +7,8 @@
 #include <optional>
 
 #include "common/features/descriptor_match.h"
+#include "common/features/epipolar_points.h"
+#include "common/geometry/triangulation.h"
 
 namespace hs {
 
@@ -133,19 +135,25 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     }
   }
 
-  if (frame.stereo()) add_stereo_points(frame, *kf, map, st);
-  if (timer) timer->stage("kf_stereo");
+  if (frame.stereo()) {
+    add_stereo_points(frame, *kf, map, st);
+    if (timer) timer->stage("kf_stereo");
+  } else if (!options_.stereo) {
+    refine_mono_points(*kf, map, st);
+    add_mono_points(*kf, map, st);
+    if (timer) timer->stage("kf_epipolar");
+  }
   return kf;
 }
 
-void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
-                                        KeyframeBuildStats& st) const {
+std::vector<int> KeyframeBuilder::new_point_candidates(const Keyframe& kf, int width,
+                                                       int height) const {
   // New points only where the image has none yet (cells of new_point_cell_px holding no
   // tracked point), strongest keypoints first, up to the per-keyframe budget: points already
   // in the map are not duplicated and the budget goes to uncovered image regions.
   const int cell = options_.new_point_cell_px;
-  const int cols = (frame.cam0.cols + cell - 1) / cell;
-  const int rows = (frame.cam0.rows + cell - 1) / cell;
+  const int cols = (width + cell - 1) / cell;
+  const int rows = (height + cell - 1) / cell;
   std::vector<uint8_t> occupied(static_cast<size_t>(cols * rows), 0);
   const auto cell_of = [&](const cv::Point2f& pt) {
     const int cx = std::clamp(static_cast<int>(pt.x) / cell, 0, cols - 1);
@@ -163,15 +171,86 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
     return kf.features.keypoints[a].response > kf.features.keypoints[b].response;
   });
   std::vector<int> chosen;
-  std::vector<Eigen::Vector2d> uv0;
   for (int i : candidates) {
     const size_t c = cell_of(kf.features.keypoints[i].pt);
     if (occupied[c]) continue;
     occupied[c] = 1;
     chosen.push_back(i);
-    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
     if (static_cast<int>(chosen.size()) >= options_.max_new_points_per_keyframe) break;
   }
+  return chosen;
+}
+
+void KeyframeBuilder::add_point(Keyframe& kf, int i, const Eigen::Vector3d& p_w, LocalMap& map,
+                                KeyframeBuildStats& st) const {
+  MapPoint p;
+  p.id = map.new_point_id();
+  p.p_w = p_w;
+  std::memcpy(p.descriptor.data(), kf.features.descriptors.ptr<uint8_t>(i), 32);
+  p.ref_keyframe_id = kf.id;
+  p.ref_uv = Eigen::Vector2d(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+  p.octave = kf.features.keypoints[i].octave;
+  map.add_point(p);
+  kf.point_ids[i] = p.id;
+  ++st.new_points;
+}
+
+void KeyframeBuilder::add_mono_points(Keyframe& kf, LocalMap& map, KeyframeBuildStats& st) const {
+  // The previous keyframe's keypoints that saw no point when it was made (a keypoint matched
+  // here is not marked there: that keyframe is already published, and only this pair uses it).
+  const std::shared_ptr<Keyframe> prev = map.latest_keyframe();
+  if (!prev) return;
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  const auto keypoint = [](const Keyframe& k, int i) {
+    return Eigen::Vector2d(k.features.keypoints[i].pt.x, k.features.keypoints[i].pt.y);
+  };
+  FreeKeypoints a(kf.T_w_c0, cam), b(prev->T_w_c0, cam);
+  for (int i : new_point_candidates(kf, cam.width, cam.height))
+    a.add(i, keypoint(kf, i), kf.features.keypoints[i].octave,
+          kf.features.descriptors.ptr<uint8_t>(i));
+  for (size_t j = 0; j < prev->point_ids.size(); ++j)
+    if (prev->point_ids[j] < 0)
+      b.add(static_cast<int>(j), keypoint(*prev, static_cast<int>(j)),
+            prev->features.keypoints[j].octave, prev->features.descriptors.ptr<uint8_t>(j));
+  std::vector<bool> used(a.keypoints().size(), false);
+  for (const EpipolarPoint& e : triangulate_epipolar(a, b, cam, options_.mono.points, used)) {
+    add_point(kf, a.keypoints()[e.a].index, e.p_w, map, st);
+    MapPoint* p = map.point(kf.point_ids[a.keypoints()[e.a].index]);
+    p->sightings = {{prev->id, b.keypoints()[e.b].uv}, {kf.id, a.keypoints()[e.a].uv}};
+  }
+}
+
+void KeyframeBuilder::refine_mono_points(const Keyframe& kf, LocalMap& map,
+                                         KeyframeBuildStats& st) const {
+  const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
+  std::vector<PointView> views;
+  for (size_t i = 0; i < kf.point_ids.size(); ++i) {
+    MapPoint* p = kf.point_ids[i] >= 0 ? map.point(kf.point_ids[i]) : nullptr;
+    if (!p) continue;
+    const Eigen::Vector2d uv(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+    p->sightings.emplace_back(kf.id, uv);
+    views.clear();
+    for (const auto& [id, uv_k] : p->sightings) {
+      const std::shared_ptr<Keyframe> k = id == kf.id ? nullptr : map.keyframe(id);
+      if (id != kf.id && !k) continue;
+      views.push_back(
+          {(id == kf.id ? kf.T_w_c0 : k->T_w_c0).inverse(), cam.unproject_normalised(uv_k)});
+    }
+    if (views.size() < 2) continue;
+    const std::optional<RefinedPoint> r = refine_point(p->p_w, views);
+    // Kept only when every sighting agrees (a wrong match or a moved point does not).
+    if (!r || r->rms * cam.fx > options_.mono.points.max_reprojection_px) continue;
+    p->p_w = r->p_w;
+    ++st.refined;
+  }
+}
+
+void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
+                                        KeyframeBuildStats& st) const {
+  std::vector<int> chosen = new_point_candidates(kf, frame.cam0.cols, frame.cam0.rows);
+  std::vector<Eigen::Vector2d> uv0;
+  for (int i : chosen)
+    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
   // For a mapper, the keyframe's tracked points are matched in cam1 too (in the same pass): a
   // stereo view of every point at every keyframe, not only where it was created, constrains
   // the depth of far points in the bundle adjustment (room_mav 20 s with the mapper: ATE
@@ -194,16 +273,7 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
     ++st.stereo_matched;
     kf.uv_right[i] = matches[k].uv1.cast<float>();
     kf.depth[i] = static_cast<float>(matches[k].p_c0.z());
-    MapPoint p;
-    p.id = map.new_point_id();
-    p.p_w = kf.T_w_c0 * matches[k].p_c0;
-    std::memcpy(p.descriptor.data(), kf.features.descriptors.ptr<uint8_t>(i), 32);
-    p.ref_keyframe_id = kf.id;
-    p.ref_uv = uv0[k];
-    p.octave = kf.features.keypoints[i].octave;
-    map.add_point(p);
-    kf.point_ids[i] = p.id;
-    ++st.new_points;
+    add_point(kf, i, kf.T_w_c0 * matches[k].p_c0, map, st);
   }
 }
 

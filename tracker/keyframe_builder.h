@@ -2,7 +2,7 @@
 // Turns a tracked frame into a keyframe (Algorithm 1, UMWK): ORB features are extracted here,
 // and only here in hybrid mode; points tracked by direct alignment are attached to keypoints
 // (getting descriptors for the mapper and relocalisation), and new points are triangulated
-// from the stereo pair.
+// from the stereo pair, or on a mono rig with the previous keyframe.
 #include <memory>
 #include <vector>
 
@@ -22,8 +22,9 @@ struct TrackedObservation {
 
 struct KeyframeBuildStats {
   int attached = 0;    // tracked points given a keypoint
-  int new_points = 0;  // triangulated from the stereo pair
+  int new_points = 0;  // triangulated from the stereo pair (mono: with the previous keyframe)
   int stereo_matched = 0;
+  int refined = 0;  // mono: tracked points placed again from all their sightings
 };
 
 class KeyframeBuilder {
@@ -31,7 +32,8 @@ class KeyframeBuilder {
   explicit KeyframeBuilder(const TrackerOptions& options);
 
   // `features`: ORB features already extracted from this frame (every-frame mode), or null.
-  // New map points are added to `map`; the keyframe is returned, not yet added to it. With a
+  // New map points are added to `map` (mono: matched with its latest keyframe); the keyframe
+  // is returned, not yet added to it. With a
   // timer, the ORB and stereo steps are timed as stages of their own.
   std::shared_ptr<Keyframe> build(const StereoFrame& frame, const ImagePyramid& pyramid,
                                   const NavState& nav,
@@ -47,6 +49,14 @@ class KeyframeBuilder {
  private:
   void add_stereo_points(const StereoFrame& frame, Keyframe& kf, LocalMap& map,
                          KeyframeBuildStats& st) const;
+  void add_mono_points(Keyframe& kf, LocalMap& map, KeyframeBuildStats& st) const;
+  // Mono: the keyframe's tracked points seen once more, and placed again from all sightings.
+  void refine_mono_points(const Keyframe& kf, LocalMap& map, KeyframeBuildStats& st) const;
+  // Keypoints of `kf` seeing no point, strongest first, in cells of the image no tracked point
+  // covers (one per cell), up to the per-keyframe budget.
+  std::vector<int> new_point_candidates(const Keyframe& kf, int width, int height) const;
+  void add_point(Keyframe& kf, int keypoint, const Eigen::Vector3d& p_w, LocalMap& map,
+                 KeyframeBuildStats& st) const;
 
   const TrackerOptions& options_;
   OrbExtractor orb_;

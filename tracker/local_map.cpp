@@ -64,14 +64,29 @@ std::vector<std::optional<Eigen::Vector3d>> LocalMap::point_positions(const Keyf
   return out;
 }
 
-void LocalMap::rotate_world(const Eigen::Matrix3d& R_new_old) {
-  for (auto& [id, p] : points_) p.p_w = R_new_old * p.p_w;
+Eigen::Isometry3d WorldSimilarity::camera(const Eigen::Isometry3d& T_w_c) const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R_new_old * T_w_c.linear();
+  T.translation() = point(T_w_c.translation());
+  return T;
+}
+
+NavState WorldSimilarity::body(const NavState& x, const Eigen::Isometry3d& T_b_c) const {
+  NavState y = x;
+  const Eigen::Isometry3d T_w_b = camera(x.T_w_b() * T_b_c) * T_b_c.inverse();
+  y.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
+  y.p_w_b = T_w_b.translation();
+  y.v_w = scale * (R_new_old * x.v_w);
+  return y;
+}
+
+void LocalMap::transform_world(const WorldSimilarity& S, const Eigen::Isometry3d& T_b_c0) {
+  for (auto& [id, p] : points_) p.p_w = S.point(p.p_w);
   for (const auto* list : {&window_, &database_})
     for (const auto& kf : *list) {
-      kf->T_w_c0.linear() = R_new_old * kf->T_w_c0.linear();
-      kf->T_w_c0.translation() = R_new_old * kf->T_w_c0.translation();
-      kf->state = rotated(kf->state, R_new_old);
-      for (Eigen::Vector3d& p_w : kf->frozen_p_w) p_w = R_new_old * p_w;
+      kf->T_w_c0 = S.camera(kf->T_w_c0);
+      kf->state = S.body(kf->state, T_b_c0);
+      for (Eigen::Vector3d& p_w : kf->frozen_p_w) p_w = S.point(p_w);
     }
 }
 

@@ -28,6 +28,9 @@ struct MapPoint {
   int64_t ref_keyframe_id = -1;
   Eigen::Vector2d ref_uv = Eigen::Vector2d::Zero();
   int octave = 0;
+  // Mono: the keyframes that saw the point and where (raw pixel), for its triangulation from
+  // all of them (a stereo point has its depth from the pair and needs none).
+  std::vector<std::pair<int64_t, Eigen::Vector2d>> sightings;
   int times_tracked = 0;  // frames in which the point was an inlier
   int times_missed = 0;   // consecutive frames it was expected but not an inlier
 };
@@ -47,6 +50,20 @@ struct Keyframe {
   // points may leave the map; relocalisation still needs them). Empty while in the window.
   std::vector<Eigen::Vector3d> frozen_p_w;
   int64_t prev_keyframe_id = -1;
+};
+
+// A new world frame for a map built before gravity (and, mono, the scale) was known: p_w' =
+// scale * R_new_old * p_w + t. Cameras move with the points; a body keeps its metric lever arm
+// to its camera, so its state follows the camera's.
+struct WorldSimilarity {
+  Eigen::Matrix3d R_new_old = Eigen::Matrix3d::Identity();
+  double scale = 1.0;
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+
+  Eigen::Vector3d point(const Eigen::Vector3d& p_w) const { return scale * (R_new_old * p_w) + t; }
+  Eigen::Isometry3d camera(const Eigen::Isometry3d& T_w_c) const;
+  // Velocity and biases: scaled and rotated, as given.
+  NavState body(const NavState& x, const Eigen::Isometry3d& T_b_c) const;
 };
 
 struct LocalMapOptions {
@@ -77,9 +94,9 @@ class LocalMap {
     return window_.empty() ? nullptr : window_.back();
   }
 
-  // Re-expresses everything in a rotated world frame (p_w' = R_new_old p_w): points, keyframe
-  // poses and states, frozen positions. Used when the gravity direction is found after start.
-  void rotate_world(const Eigen::Matrix3d& R_new_old);
+  // Re-expresses everything in a new world frame: points, keyframe poses and states, frozen
+  // positions. Used when the gravity direction (and a mono map's scale) is found after start.
+  void transform_world(const WorldSimilarity& S, const Eigen::Isometry3d& T_b_c0);
 
   void clear();
   // Moves every window keyframe to the database and drops all points (a new local map starts).

@@ -1,6 +1,7 @@
 #include "tracker/tracker.h"
 
 #include <algorithm>
+#include <cstring>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -95,7 +96,8 @@ Tracker::Tracker(const TrackerOptions& options)
       optimizer_(options_.calib, options_.pose_opt),
       aligner_(options_.direct.sparse),
       builder_(options_),
-      relocaliser_(options_, optimizer_) {
+      relocaliser_(options_, optimizer_),
+      mono_init_(options_.calib.cam0.intrinsics, options_.mono.init) {
   if (options_.threads > 0) cv::setNumThreads(options_.threads);
 }
 
@@ -232,13 +234,26 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
            have_features ? &features : nullptr, r, timer);
     timer.stage("keyframe");
-    if (bootstrap_) advance_bootstrap(pim, r);
+    if (bootstrap_) {
+      advance_bootstrap(pim, r);
+    } else if (!options_.stereo && !mapper_present_) {
+      refine_scale(use_imu, r);
+      timer.stage("scale_check");
+    }
     return r;
   }
 
   // Failure check fired (Algorithm 1): relocalise with the reference keyframe (Eq. 7), then
   // globally (Eq. 8).
   std::string why = "tracking failed (" + opt.reason + ")";
+  scale_window_.reset();  // its frames must chain
+  if (bootstrap_ && bootstrap_->up_to_scale) {
+    // A mono map of unknown scale cannot be carried by the IMU: start again.
+    r.message = why;
+    restart_mono(r);
+    r.state = state_;
+    return r;
+  }
   if (bootstrap_) {
     bootstrap_.reset();
     why += "; vision-IMU alignment abandoned (gravity stays from the mean acceleration)";
@@ -292,6 +307,8 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     start_map_in_place(frame, pyr, predicted, r);
     timer.stage("reinitialise");
     if (state_ != TrackState::kLost) return r;
+  } else if (frame.t_ns - lost_since_ns_ >= options_.reinit_after_lost_ns && !options_.stereo) {
+    restart_mono(r);
   }
   r.state = state_;
   r.nav = predicted;
@@ -305,8 +322,10 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
 }
 
 void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
-  bootstrap_->poses.push_back({last_->t_ns, last_->nav.T_w_b()});
-  bootstrap_->pims.push_back(pim);
+  const Eigen::Isometry3d& T_b_c = options_.calib.cam0.T_b_c;
+  bootstrap_->poses.push_back(
+      {last_->t_ns, bootstrap_->up_to_scale ? T_w_c0(last_->nav) : last_->nav.T_w_b()});
+  if (!bootstrap_->up_to_scale) bootstrap_->pims.push_back(pim);
   const int64_t span_ns = bootstrap_->poses.back().t_ns - bootstrap_->poses.front().t_ns;
   r.state = TrackState::kInitialising;
   if (span_ns < options_.vi_alignment_window_ns) {
@@ -315,19 +334,26 @@ void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
                  std::to_string(options_.vi_alignment_window_ns / 1000000) + " ms)";
     return;
   }
-  const ViAlignmentResult a = align_visual_inertial(bootstrap_->poses, bootstrap_->pims);
+  const ViAlignmentResult a = bootstrap_->up_to_scale
+                                  ? align_mono(bootstrap_->poses, options_.mono.alignment)
+                                  : align_visual_inertial(bootstrap_->poses, bootstrap_->pims);
   if (!a.ok) {
-    // Slide the window on: a later stretch may be better conditioned.
-    bootstrap_->poses.erase(bootstrap_->poses.begin());
-    bootstrap_->pims.erase(bootstrap_->pims.begin());
-    r.message += "; vision-IMU alignment failed (" + a.reason + "), retrying";
+    // Mono: more motion may bring the acceleration the scale needs, so the window grows for a
+    // while. Then (and for stereo at once) it slides on: a later stretch may be better
+    // conditioned.
+    if (!bootstrap_->up_to_scale || span_ns >= options_.mono.max_alignment_window_ns) {
+      bootstrap_->poses.erase(bootstrap_->poses.begin());
+      if (!bootstrap_->pims.empty()) bootstrap_->pims.erase(bootstrap_->pims.begin());
+    }
+    r.message += (r.message.empty() ? "" : "; ") + std::string("vision-IMU alignment failed (") +
+                 a.reason + "), retrying over " + std::to_string(span_ns / 1000000) + " ms";
     return;
   }
   const Eigen::Matrix3d& R = a.R_wg_w;
-  map_.rotate_world(R);
-  last_keyframe_T_w_c_.linear() = R * last_keyframe_T_w_c_.linear();
-  last_keyframe_T_w_c_.translation() = R * last_keyframe_T_w_c_.translation();
-  NavState nav = rotated(last_->nav, R);
+  const WorldSimilarity S{R, a.scale};
+  map_.transform_world(S, T_b_c);
+  last_keyframe_T_w_c_ = S.camera(last_keyframe_T_w_c_);
+  NavState nav = S.body(last_->nav, T_b_c);
   nav.v_w = R * a.v_w.back();
   nav.gyro_bias = a.gyro_bias;
   nav.accel_bias = a.accel_bias;
@@ -338,13 +364,85 @@ void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
       Eigen::Vector3d::Constant(a.accel_bias_estimated ? 0.05 : 0.2);
   last_->information = information_from_sigmas(sigma);
   last_->has_information = true;
+  const bool bootstrap_up_to_scale = bootstrap_->up_to_scale;
   bootstrap_.reset();
+  scale_window_.reset();
   r.state = state_;
   r.nav = nav;
   r.message += (r.message.empty() ? "" : "; ") +
                std::string("vision and IMU aligned: gravity tilt corrected by ") +
                std::to_string(Eigen::AngleAxisd(R).angle() * 180.0 / M_PI) + " deg" +
-               (a.weak_excitation ? " (little excitation: accel bias held)" : "");
+               (a.weak_excitation ? " (little excitation: accel bias held)" : "") +
+               (bootstrap_up_to_scale ? ", scale " + std::to_string(a.scale) + " +- " +
+                                            std::to_string(a.scale_sigma) + " over " +
+                                            std::to_string(span_ns / 1000000) + " ms"
+                                      : "");
+}
+
+ViAlignmentResult Tracker::align_mono(const std::vector<TimedPose>& camera_poses,
+                                      const ViAlignmentOptions& options) const {
+  // Poses at least alignment_spacing_ns apart (the newest kept): a dense window of every frame
+  // costs the tracking thread 150 ms (room_mav, 4 s at 20 Hz) for little more information.
+  std::vector<TimedPose> poses;
+  for (size_t i = 0; i < camera_poses.size(); ++i)
+    if (poses.empty() || i + 1 == camera_poses.size() ||
+        camera_poses[i].t_ns - poses.back().t_ns >= options_.mono.alignment_spacing_ns)
+      poses.push_back(camera_poses[i]);
+  if (poses.size() > 2 &&
+      poses.back().t_ns - poses[poses.size() - 2].t_ns < options_.mono.alignment_spacing_ns / 2)
+    poses.erase(poses.end() - 2);
+  ImuBias bias;
+  bias.gyro = last_->nav.gyro_bias;
+  bias.accel = last_->nav.accel_bias;
+  std::vector<ImuPreintegration> pims;
+  for (size_t k = 0; k + 1 < poses.size(); ++k) {
+    pims.push_back(preintegrate(imu_.window(poses[k].t_ns, poses[k + 1].t_ns), poses[k].t_ns,
+                                poses[k + 1].t_ns, bias, options_.imu));
+    if (!imu_usable(pims.back())) {
+      ViAlignmentResult refused;
+      refused.reason = "an IMU gap in the window";
+      return refused;
+    }
+  }
+  return align_visual_inertial_up_to_scale(poses, options_.calib.cam0.T_b_c, pims, options);
+}
+
+void Tracker::refine_scale(bool imu_bridged, FrameResult& r) {
+  if (!imu_bridged || !scale_window_) {
+    // Starts (again) at this frame: a window must be bridged by the IMU throughout.
+    scale_window_ = Bootstrap{true, {{last_->t_ns, T_w_c0(last_->nav)}}, {}};
+    return;
+  }
+  Bootstrap& w = *scale_window_;
+  w.poses.push_back({last_->t_ns, T_w_c0(last_->nav)});
+  while (w.poses.size() > 2 &&
+         w.poses.back().t_ns - w.poses[1].t_ns >= options_.mono.refine_window_ns)
+    w.poses.erase(w.poses.begin());
+  if (w.poses.back().t_ns - w.poses.front().t_ns < options_.mono.refine_window_ns ||
+      last_->t_ns - last_scale_check_ns_ < options_.mono.refine_period_ns)
+    return;
+  last_scale_check_ns_ = last_->t_ns;
+  ViAlignmentOptions o = options_.mono.alignment;
+  o.max_scale_sigma = options_.mono.refine_max_scale_sigma;
+  const ViAlignmentResult a = align_mono(w.poses, o);
+  // Corrected only when the IMU says the scale is off by more than twice its uncertainty.
+  if (!a.ok || std::abs(a.scale - 1.0) <= 2.0 * a.scale_sigma) return;
+  // About the current camera: the pose does not jump, the map (and the path behind) rescales.
+  WorldSimilarity S;
+  S.scale = a.scale;
+  S.t = (1.0 - a.scale) * T_w_c0(last_->nav).translation();
+  const Eigen::Isometry3d& T_b_c = options_.calib.cam0.T_b_c;
+  map_.transform_world(S, T_b_c);
+  last_keyframe_T_w_c_ = S.camera(last_keyframe_T_w_c_);
+  last_->nav = S.body(last_->nav, T_b_c);
+  last_->nav.v_w = a.v_w.back();
+  ++counters_.scale_corrections;
+  scale_window_.reset();
+  r.nav = last_->nav;
+  r.message += (r.message.empty() ? "" : "; ") + std::string("map rescaled by ") +
+               std::to_string(a.scale) + " +- " + std::to_string(a.scale_sigma) +
+               " (IMU over the last " + std::to_string(options_.mono.refine_window_ns / 1000000) +
+               " ms)";
 }
 
 int64_t Tracker::imu_behind_ns(int64_t t_ns) const {
@@ -582,7 +680,7 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
     kf->imu = imu_.window(last_keyframe_t_ns_, frame.t_ns);
     // The new points are tracked from the next frame on.
     for (size_t i = 0; i < kf->point_ids.size(); ++i)
-      if (kf->point_ids[i] >= 0 && kf->depth[i] > 0 &&
+      if (kf->point_ids[i] >= 0 &&
           !std::any_of(tracked.begin(), tracked.end(),
                        [&](const TrackedObservation& t) { return t.point_id == kf->point_ids[i]; }))
         tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
@@ -625,6 +723,7 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
 
 bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& r) {
   r.state = TrackState::kInitialising;
+  if (!options_.stereo) return initialise_mono(frame, pyr, r);
   if (!frame.stereo()) {
     r.message = "initialising: waiting for a stereo frame";
     return false;
@@ -662,10 +761,105 @@ bool Tracker::initialise(const StereoFrame& frame, const ImagePyramid& pyr, Fram
   }
   // Moving: the mean acceleration is not gravity. Track on vision alone for a while, then
   // align the visual poses with the IMU (gravity, velocity, biases) before reporting poses.
-  bootstrap_ = Bootstrap{{{frame.t_ns, nav.T_w_b()}}, {}};
+  bootstrap_ = Bootstrap{false, {{frame.t_ns, nav.T_w_b()}}, {}};
   r.state = TrackState::kInitialising;
   r.message += "; moving start (" + gravity.reason + "): aligning vision and IMU";
   return true;
+}
+
+bool Tracker::initialise_mono(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& r) {
+  const MonoInitResult two = mono_init_.add_frame(frame.t_ns, frame.cam0);
+  if (!two.ok) {
+    r.message = "initialising (mono): " + two.reason;
+    return false;
+  }
+  // The IMU must bridge the two views: they start the alignment's window.
+  const std::vector<ImuSample> samples = imu_.window(two.ref_t_ns, frame.t_ns);
+  const ImuPreintegration pim =
+      preintegrate(samples, two.ref_t_ns, frame.t_ns, ImuBias{}, options_.imu);
+  if (!imu_usable(pim)) {
+    mono_init_.reset();
+    r.message = "initialising (mono): the IMU does not cover the two views: a new reference";
+    return false;
+  }
+  // Attitude guess: the mean acceleration taken for gravity (the alignment corrects the tilt).
+  const StaticInitResult level = initialise_from_static(samples, options_.imu);
+  std::vector<double> depths;
+  for (const Eigen::Vector3d& p : two.p_ref) depths.push_back(p.z());
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  const double scale = options_.mono.initial_median_depth_m / depths[depths.size() / 2];
+  const Eigen::Isometry3d& T_b_c = options_.calib.cam0.T_b_c;
+  Eigen::Isometry3d T_w_b_ref = Eigen::Isometry3d::Identity();
+  T_w_b_ref.linear() = level.q_w_b.toRotationMatrix();
+  const Eigen::Isometry3d T_w_c_ref = T_w_b_ref * T_b_c;
+  Eigen::Isometry3d T_ref_cur = two.T_ref_cur;
+  T_ref_cur.translation() *= scale;
+  const Eigen::Isometry3d T_w_c_cur = T_w_c_ref * T_ref_cur;
+  NavState nav;
+  nav.t_ns = frame.t_ns;
+  const Eigen::Isometry3d T_w_b = T_w_c_cur * T_b_c.inverse();
+  nav.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
+  nav.p_w_b = T_w_b.translation();
+
+  // The first keyframe sees the two-view points where they are now; they take the keypoints
+  // (and descriptors) they are attached to there, and the few ORB cannot describe go.
+  map_.clear();
+  std::vector<TrackedObservation> tracked;
+  for (size_t k = 0; k < two.p_ref.size(); ++k) {
+    MapPoint p;
+    p.id = map_.new_point_id();
+    p.p_w = T_w_c_ref * (scale * two.p_ref[k]);
+    map_.add_point(p);
+    tracked.push_back({p.id, two.uv_cur[k]});
+  }
+  KeyframeBuildStats stats;
+  auto kf = builder_.build(frame, pyr, nav, tracked, nullptr, map_, &stats);
+  std::unordered_set<int64_t> attached;
+  for (size_t i = 0; i < kf->point_ids.size(); ++i) {
+    MapPoint* p = kf->point_ids[i] >= 0 ? map_.point(kf->point_ids[i]) : nullptr;
+    if (!p) continue;
+    std::memcpy(p->descriptor.data(), kf->features.descriptors.ptr<uint8_t>(static_cast<int>(i)),
+                32);
+    p->octave = kf->features.keypoints[i].octave;
+    attached.insert(p->id);
+  }
+  for (const TrackedObservation& t : tracked)
+    if (!attached.count(t.point_id)) map_.remove_point(t.point_id);
+  if (attached.size() < static_cast<size_t>(options_.init_min_points)) {
+    map_.clear();
+    mono_init_.reset();
+    r.message = "initialising (mono): only " + std::to_string(attached.size()) +
+                " two-view points kept (" + std::to_string(options_.init_min_points) +
+                " needed): a new reference";
+    return false;
+  }
+  map_.add_keyframe(kf);
+  ++counters_.keyframes;
+  begin_local_map(pyr, nav, kf, r);
+  // Vision alone until the IMU gives scale and gravity; the first interval is the two views'.
+  // The reference pose starts the window when the IMU interval to it is short enough for one
+  // bias (a reference kept through a still start can be seconds old).
+  if (frame.t_ns - two.ref_t_ns <= options_.vi_alignment_window_ns)
+    bootstrap_ = Bootstrap{true, {{two.ref_t_ns, T_w_c_ref}, {frame.t_ns, T_w_c_cur}}, {}};
+  else
+    bootstrap_ = Bootstrap{true, {{frame.t_ns, T_w_c_cur}}, {}};
+  r.state = TrackState::kInitialising;
+  r.message = "initialising (mono): two views " +
+              std::to_string(ns_to_s(frame.t_ns - two.ref_t_ns)).substr(0, 4) + " s apart (" +
+              (two.homography ? "homography" : "essential matrix") + ", " +
+              std::to_string(attached.size()) + " points); aligning vision and IMU for the scale";
+  return true;
+}
+
+void Tracker::restart_mono(FrameResult& r) {
+  state_ = TrackState::kInitialising;
+  mono_init_.reset();
+  bootstrap_.reset();
+  scale_window_.reset();
+  map_.clear();
+  ++map_id_;
+  ++counters_.reinitialisations;
+  r.message += "; a mono map restarts from two views: map id now " + std::to_string(map_id_);
 }
 
 void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr,
@@ -706,17 +900,28 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
     else
       ++map_id_;
   }
+  begin_local_map(pyr, nav, kf, r);
+  r.message += (r.message.empty() ? "" : "; ") +
+               std::string(first ? "map initialised" : "new local map started in place") +
+               " with " + std::to_string(stats.new_points) + " stereo points" +
+               (first       ? ""
+                : continues ? ": map id " + std::to_string(map_id_) +
+                                  " continues, the IMU carried the pose over the loss"
+                            : ": map id now " + std::to_string(map_id_));
+}
+
+void Tracker::begin_local_map(const ImagePyramid& pyr, const NavState& nav,
+                              const std::shared_ptr<Keyframe>& kf, FrameResult& r) {
   state_ = TrackState::kTracking;
   lost_since_ns_ = -1;
-
   std::vector<TrackedObservation> tracked;
   for (size_t i = 0; i < kf->point_ids.size(); ++i)
     if (kf->point_ids[i] >= 0)
       tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
                                                            kf->features.keypoints[i].pt.y)});
-  remember_keyframe_view(frame.t_ns, T_w_c0(nav), tracked);
+  remember_keyframe_view(kf->state.t_ns, kf->T_w_c0, tracked);
 
-  last_tracked_t_ns_ = frame.t_ns;
+  last_tracked_t_ns_ = kf->state.t_ns;
   r.state = state_;
   r.map_id = map_id_;
   r.nav = nav;
@@ -726,15 +931,8 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   for (const TrackedObservation& t : tracked)
     r.features.push_back({t.uv.cast<float>(), FeatureSource::kNew});
   r.quality = 0.5f;
-  r.message += (r.message.empty() ? "" : "; ") +
-               std::string(first ? "map initialised" : "new local map started in place") +
-               " with " + std::to_string(stats.new_points) + " stereo points" +
-               (first       ? ""
-                : continues ? ": map id " + std::to_string(map_id_) +
-                                  " continues, the IMU carried the pose over the loss"
-                            : ": map id now " + std::to_string(map_id_));
   LastFrame lf;
-  lf.t_ns = frame.t_ns;
+  lf.t_ns = kf->state.t_ns;
   lf.pyramid = pyr;
   lf.nav = nav;
   lf.tracked = std::move(tracked);

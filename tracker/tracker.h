@@ -17,6 +17,7 @@
 #include "tracker/imu_buffer.h"
 #include "tracker/keyframe_builder.h"
 #include "tracker/local_map.h"
+#include "tracker/mono_initialiser.h"
 #include "tracker/pose_opt.h"
 #include "tracker/relocaliser.h"
 #include "tracker/stage_timer.h"
@@ -40,6 +41,7 @@ struct TrackerCounters {
   int64_t frames_without_imu = 0;        // IMU gap or IMU behind: tracked on vision alone
   int64_t reinitialisations = 0;         // local maps started in place after a loss
   int64_t maps_continued = 0;            // ... of them continuing the map (short loss, IMU bridged)
+  int64_t scale_corrections = 0;         // mono: the map rescaled by the IMU's scale estimate
   int64_t corrections_applied = 0;       // mapper corrections (MAP_UPDATE)
   int64_t corrections_ignored = 0;       // for another map id, or no keyframe the tracker still has
   int64_t correction_jumps = 0;          // applied, but moved the pose enough to change the map id
@@ -68,7 +70,12 @@ class Tracker {
   // points) and moves the current state with the newest corrected keyframe the tracker has.
   CorrectionResult apply(const MapCorrection& correction);
   // A mapper consumes the keyframes: they carry a stereo view of every tracked point.
-  void set_mapper_present() { builder_.set_stereo_for_tracked(true); }
+  // A mono map's scale is then the mapper's (its visual-inertial bundle adjustment), not rescaled
+  // here as well.
+  void set_mapper_present() {
+    builder_.set_stereo_for_tracked(true);
+    mapper_present_ = true;
+  }
 
   const TrackerCounters& counters() const { return counters_; }
   const ImuBufferCounters& imu_counters() const { return imu_.counters(); }
@@ -93,16 +100,28 @@ class Tracker {
   };
 
   // Moving start: visual poses and the preintegrations between them, until the window spans
-  // options_.vi_alignment_window_ns and align_visual_inertial() finds gravity.
+  // options_.vi_alignment_window_ns and align_visual_inertial() finds gravity. Mono: cam0 poses
+  // known up to scale, and the scale is found too (align_mono: no preintegrations kept).
   struct Bootstrap {
-    std::vector<TimedPose> poses;
+    bool up_to_scale = false;
+    std::vector<TimedPose> poses;  // body poses; mono: cam0 poses
     std::vector<ImuPreintegration> pims;
   };
 
   FrameResult track_frame(const StereoFrame& frame);
   std::string validate(const StereoFrame& frame);
   void advance_bootstrap(const ImuPreintegration& pim, FrameResult& r);
+  // Mono: scale, gravity, velocities and biases from cam0 poses known up to scale, the IMU
+  // preintegrated between a thinned set of them.
+  ViAlignmentResult align_mono(const std::vector<TimedPose>& camera_poses,
+                               const ViAlignmentOptions& options) const;
+  // Mono: the map's scale checked against the IMU over a recent window, and corrected.
+  // `imu_bridged`: the IMU covered the interval since the previous frame.
+  void refine_scale(bool imu_bridged, FrameResult& r);
   bool initialise(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& result);
+  bool initialise_mono(const StereoFrame& frame, const ImagePyramid& pyr, FrameResult& result);
+  // Mono, lost too long: back to the two-view start, in a new map.
+  void restart_mono(FrameResult& result);
   ImuPreintegration preintegrate_since_last(int64_t t_ns);
   Eigen::Isometry3d T_w_c0(const NavState& nav) const;
   // Stage 1 (Eq. 17-18): relative pose to the previous frame by sparse alignment.
@@ -128,6 +147,9 @@ class Tracker {
                               const std::vector<TrackedObservation>& tracked);
   void start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr, const NavState& nav,
                           FrameResult& result);
+  // Tracking resumes from `kf`, the first keyframe of a new local map (already in map_).
+  void begin_local_map(const ImagePyramid& pyr, const NavState& nav,
+                       const std::shared_ptr<Keyframe>& kf, FrameResult& result);
 
   TrackerOptions options_;
   ImuBuffer imu_;
@@ -148,7 +170,12 @@ class Tracker {
   int64_t lost_since_ns_ = -1;
   int64_t last_tracked_t_ns_ = 0;  // last frame tracked or relocalised
   std::optional<Bootstrap> bootstrap_;
+  // Mono, once aligned: recent cam0 poses for the scale check.
+  std::optional<Bootstrap> scale_window_;
+  int64_t last_scale_check_ns_ = 0;
+  bool mapper_present_ = false;
   cv::Mat init_previous_image_;  // while initialising: to tell a static start from a moving one
+  MonoInitialiser mono_init_;
 };
 
 }  // namespace hs

@@ -127,6 +127,26 @@ TrackerOptions load_tracker_options(const std::string& path) {
   top.section("direct", [&](ConfigSection& s) { read_direct(s, o.direct); });
   top.section("pose_optimisation", [&](ConfigSection& s) { read_pose_opt(s, o.pose_opt); });
   top.section("keyframes", [&](ConfigSection& s) { read_keyframe(s, o.keyframe); });
+  top.section("mono", [&](ConfigSection& s) {
+    MonoOptions& m = o.mono;
+    s.read("min_flow_px", m.init.min_flow_px);
+    s.read("min_tracked", m.init.min_tracked);
+    s.read("initial_median_depth_m", m.initial_median_depth_m);
+    s.read_seconds("max_alignment_window_s", m.max_alignment_window_ns);
+    s.read_seconds("alignment_spacing_s", m.alignment_spacing_ns);
+    s.read("max_scale_sigma", m.alignment.max_scale_sigma);
+    s.read("accel_bias_prior_sigma", m.alignment.accel_bias_prior_sigma);
+    s.read_seconds("refine_window_s", m.refine_window_ns);
+    s.read_seconds("refine_period_s", m.refine_period_ns);
+    s.read("refine_max_scale_sigma", m.refine_max_scale_sigma);
+    s.read("point_max_hamming", m.points.max_hamming);
+    s.read("point_min_parallax_deg", m.points.min_parallax_deg);
+    if (!(m.init.min_flow_px > 0 && m.init.min_tracked >= 8 && m.initial_median_depth_m > 0 &&
+          m.alignment.max_scale_sigma > 0 && m.alignment.accel_bias_prior_sigma >= 0 &&
+          m.points.min_parallax_deg > 0 && m.refine_window_ns > 0 && m.refine_period_ns > 0 &&
+          m.refine_max_scale_sigma > 0 && m.alignment_spacing_ns > 0))
+      s.fail("min_flow_px", "mono options out of range");
+  });
   top.section("relocalisation_gate", [&](ConfigSection& s) {
     RelocGateOptions& g = o.reloc_gate;
     s.read("position_m", g.position_m);
@@ -150,6 +170,8 @@ TrackerOptions load_tracker_options(const std::string& path) {
   top.section("node", [&](ConfigSection& s) { read_node(s, o.node); });
   o.channels = read_channel_names(top);
   top.finish();
+  if (o.mono.max_alignment_window_ns < o.vi_alignment_window_ns)
+    throw InputError(path + ": mono.max_alignment_window_s is shorter than vi_alignment_window_s");
   return o;
 }
 

@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -190,8 +191,9 @@ void write_camera_yaml(const std::string& path, const CameraCalib& calib,
 }
 
 StereoCalib read_stereo_calib(const std::string& mav0_dir) {
-  return {read_camera_yaml(mav0_dir + "/cam0/sensor.yaml"),
-          read_camera_yaml(mav0_dir + "/cam1/sensor.yaml")};
+  const CameraCalib cam0 = read_camera_yaml(mav0_dir + "/cam0/sensor.yaml");
+  const std::string cam1 = mav0_dir + "/cam1/sensor.yaml";
+  return {cam0, std::filesystem::exists(mav0_dir + "/cam1") ? read_camera_yaml(cam1) : cam0};
 }
 
 }  // namespace hs

@@ -34,7 +34,8 @@ CameraCalib read_camera_yaml(const std::string& path);
 void write_camera_yaml(const std::string& path, const CameraCalib& calib,
                        const std::string& comment = "");
 
-// Reads <mav0_dir>/cam0/sensor.yaml and <mav0_dir>/cam1/sensor.yaml.
+// Reads <mav0_dir>/cam0/sensor.yaml and <mav0_dir>/cam1/sensor.yaml. A mono rig's folder has no
+// cam1: cam1 is then a copy of cam0 (a mono tracker never uses it).
 StereoCalib read_stereo_calib(const std::string& mav0_dir);
 
 }  // namespace hs

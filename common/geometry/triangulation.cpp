@@ -1,5 +1,6 @@
 #include "common/geometry/triangulation.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -29,6 +30,34 @@ std::optional<Eigen::Vector3d> triangulate_two_view(const Eigen::Vector2d& xy_a,
   const Eigen::Vector3d p_a = X.head<3>() / X.w();
   if (p_a.z() <= 0.0 || (T_b_a * p_a).z() <= 0.0) return std::nullopt;
   return p_a;
+}
+
+std::optional<RefinedPoint> refine_point(const Eigen::Vector3d& p_w,
+                                         const std::vector<PointView>& views, int iterations) {
+  RefinedPoint r{p_w, 0.0};
+  for (int it = 0; it <= iterations; ++it) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    double sq = 0.0;
+    for (const PointView& v : views) {
+      const Eigen::Vector3d p_c = v.T_c_w * r.p_w;
+      if (p_c.z() <= 1e-6) return std::nullopt;
+      const Eigen::Vector2d e = p_c.head<2>() / p_c.z() - v.xy;
+      sq += e.squaredNorm();
+      Eigen::Matrix<double, 2, 3> J_c;
+      J_c << 1.0 / p_c.z(), 0.0, -p_c.x() / (p_c.z() * p_c.z()), 0.0, 1.0 / p_c.z(),
+          -p_c.y() / (p_c.z() * p_c.z());
+      const Eigen::Matrix<double, 2, 3> J = J_c * v.T_c_w.linear();
+      H += J.transpose() * J;
+      g += J.transpose() * e;
+    }
+    r.rms = std::sqrt(sq / static_cast<double>(std::max<size_t>(1, views.size())));
+    if (it == iterations) break;
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(H);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12)) return std::nullopt;
+    r.p_w -= ldlt.solve(g);
+  }
+  return r;
 }
 
 double parallax_angle(const Eigen::Vector3d& p_a, const Eigen::Isometry3d& T_a_b) {

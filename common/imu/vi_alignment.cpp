@@ -221,7 +221,8 @@ TranslationalSystem build_translational(const PositionPrior& prior,
   const int g_col = s.num_states, ba_col = s.num_states + s.num_gravity;
   const int cols = ba_col + (with_accel_bias ? 3 : 0);
   if (prior.free_scale) s.scale_col = cols;
-  s.J.setZero(3 * n + 6 * (n - 1), cols + (prior.free_scale ? 1 : 0));
+  const bool bias_prior = with_accel_bias && options.accel_bias_prior_sigma > 0.0;
+  s.J.setZero(3 * n + 6 * (n - 1) + (bias_prior ? 3 : 0), cols + (prior.free_scale ? 1 : 0));
   s.r.setZero(s.J.rows());
   const double sigma_p = std::sqrt(
       options.vision_position_sigma_m * options.vision_position_sigma_m + kCovarianceFloor);
@@ -262,6 +263,11 @@ TranslationalSystem build_translational(const PositionPrior& prior,
     cov.diagonal().tail<3>().array() += var_R * d.p.squaredNorm() + kCovarianceFloor;
     whiten(cov, rows, s.r.segment<6>(row));
   }
+  // The bias about its linearisation value (residual zero there).
+  if (bias_prior)
+    s.J.block<3, 3>(3 * n + 6 * (n - 1), ba_col)
+        .diagonal()
+        .setConstant(1.0 / options.accel_bias_prior_sigma);
   return s;
 }
 
@@ -367,9 +373,12 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
   SphereSolution sol = refine_on_sphere(prior, rot.R_w_b, pims, g_free, false, options);
   const int tilt_col = sol.system.num_states;
   if (options.estimate_accel_bias) {
+    // What the window alone says (without the bias prior).
+    ViAlignmentOptions data_only = options;
+    data_only.accel_bias_prior_sigma = 0.0;
     const TranslationalSystem probe =
         build_translational(prior, rot.R_w_b, pims, G * sol.dir,
-                            -G * so3::hat(sol.dir) * tangent_basis(sol.dir), true, options);
+                            -G * so3::hat(sol.dir) * tangent_basis(sol.dir), true, data_only);
     // Tilt and bias information, the tilt scaled to m/s^2 (G * theta) to compare the two.
     Eigen::MatrixXd info = keep_block(normal_matrix(probe.J), tilt_col, 5);
     info.topRows<2>() /= G;
@@ -377,12 +386,11 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
     const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(info).eigenvalues();
     out.gravity_accel_bias_conditioning = eig(4) > 0.0 ? std::max(eig(0), 0.0) / eig(4) : 0.0;
     out.accel_bias_sigma = largest_sigma(keep_block(info, 2, 3));
-    if (out.accel_bias_sigma <= options.max_accel_bias_sigma) {
+    out.weak_excitation = !(out.accel_bias_sigma <= options.max_accel_bias_sigma);
+    if (!out.weak_excitation || options.accel_bias_prior_sigma > 0.0) {
       sol = refine_on_sphere(prior, rot.R_w_b, pims, sol.dir, true, options);
       out.accel_bias_estimated = true;
       out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
-    } else {
-      out.weak_excitation = true;
     }
   }
   if (!sol.x.allFinite()) {

@@ -48,6 +48,10 @@ struct ViAlignmentOptions {
   // deviation of its estimate (m/s^2) is at most max_accel_bias_sigma.
   bool estimate_accel_bias = true;
   double max_accel_bias_sigma = 0.02;
+  // > 0: the accel bias is always estimated, with a prior of this standard deviation (m/s^2)
+  // about the preintegrations' linearisation value; weak_excitation still reports a window
+  // that alone would not separate it from a gravity tilt.
+  double accel_bias_prior_sigma = 0.0;
   // Sanity checks that refuse the window.
   double max_gyro_bias_norm = 0.3;      // rad/s
   double max_gravity_norm_error = 1.0;  // | |g| - G | of the unconstrained solution, m/s^2

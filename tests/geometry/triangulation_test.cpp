@@ -32,5 +32,22 @@ TEST(Triangulation, RejectsPointsBehindAndParallelRays) {
       triangulate_two_view({0.1, 0.0}, {0.1, 0.0}, Eigen::Isometry3d::Identity()).has_value());
 }
 
+// Four cameras along a line looking at a point: refined from a start 10% off in depth, it lands
+// on the point; a point that ends behind a camera is refused.
+TEST(Triangulation, RefinePointFromSeveralViews) {
+  const Eigen::Vector3d p_w(0.4, -0.3, 4.0);
+  std::vector<PointView> views;
+  for (double x : {0.0, 0.1, 0.25, 0.4}) {
+    Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
+    T_c_w.translation() = Eigen::Vector3d(-x, 0.0, 0.0);
+    views.push_back({T_c_w, normalised(T_c_w * p_w)});
+  }
+  const auto r = refine_point(1.1 * p_w, views, 5);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_LT((r->p_w - p_w).norm(), 1e-6);
+  EXPECT_LT(r->rms, 1e-9);
+  EXPECT_FALSE(refine_point(Eigen::Vector3d(0.4, -0.3, -4.0), views).has_value());
+}
+
 }  // namespace
 }  // namespace hs

@@ -27,12 +27,17 @@ class KeyframeBuilderTest : public ::testing::Test {
     frame_.t_ns = 1;
     frame_.cam0 = r0.render(Eigen::Isometry3d::Identity());
     frame_.cam1 = r1.render(options_.calib.T_c0_c1());
+    // cam0 from 0.25 m to the right (for the mono pair).
+    T_w_c_moved_.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+    moved_cam0_ = r0.render(T_w_c_moved_);
     nav_.q_w_b = Eigen::Quaterniond(options_.calib.cam0.T_b_c.linear().transpose());
     nav_.p_w_b = -(nav_.q_w_b * options_.calib.cam0.T_b_c.translation());
   }
 
   TrackerOptions options_;
   StereoFrame frame_;
+  Eigen::Isometry3d T_w_c_moved_ = Eigen::Isometry3d::Identity();
+  cv::Mat moved_cam0_;
   NavState nav_;  // body pose that puts cam0 at the world origin
 };
 
@@ -107,6 +112,40 @@ TEST_F(KeyframeBuilderTest, KeypointsKeepTheirPointIdsAndDescriptors) {
     ++checked;
   }
   EXPECT_EQ(checked, 20);
+}
+
+// Mono rig: a keyframe's new points come from epipolar matches with the previous keyframe,
+// triangulated onto the wall; its tracked points and the first keyframe's keypoints make none.
+TEST_F(KeyframeBuilderTest, MonoKeyframesTriangulateWithThePreviousKeyframe) {
+  options_.stereo = false;
+  KeyframeBuilder builder(options_);
+  LocalMap map(options_.local_map);
+  StereoFrame first{frame_.t_ns, frame_.seq, frame_.cam0, cv::Mat()};
+  KeyframeBuildStats stats;
+  map.add_keyframe(builder.build(first, build_pyramid(first.cam0, options_.pyramid_levels), nav_,
+                                 {}, nullptr, map, &stats));
+  EXPECT_EQ(stats.new_points, 0) << "nothing to match the first keyframe with";
+
+  StereoFrame second{2, 1, moved_cam0_, cv::Mat()};
+  NavState nav = nav_;
+  const Eigen::Isometry3d T_w_b = T_w_c_moved_ * options_.calib.cam0.T_b_c.inverse();
+  nav.p_w_b = T_w_b.translation();
+  const auto kf = builder.build(second, build_pyramid(second.cam0, options_.pyramid_levels), nav,
+                                {}, nullptr, map, &stats);
+  EXPECT_GT(stats.new_points, 60);
+  EXPECT_EQ(stats.stereo_matched, 0);
+  int on_wall = 0;
+  for (size_t i = 0; i < kf->point_ids.size(); ++i) {
+    if (kf->point_ids[i] < 0) continue;
+    EXPECT_LT(kf->depth[i], 0.f) << "a mono point has no stereo depth to report";
+    const MapPoint* p = map.point(kf->point_ids[i]);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(p->ref_keyframe_id, kf->id);
+    // 0.25 m at 3 m: a pixel of keypoint error is 2.6% of the depth.
+    on_wall += std::abs(p->p_w.z() - kWallDepthM) < 0.05 * kWallDepthM;
+  }
+  // A few wrong matches on the repeated texture remain (the pose optimisation rejects them).
+  EXPECT_GE(on_wall, stats.new_points * 90 / 100);
 }
 
 }  // namespace

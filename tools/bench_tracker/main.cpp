@@ -4,6 +4,8 @@
 // tracking times side by side, keyframe / non-keyframe times, ATE, peak RSS and the targets.
 //   hs-bench-tracker --sim config/sim/room_mav.yaml [--duration S] [--seed N] [--json FILE]
 //   hs-bench-tracker --dataset EUROC_DIR [--config config/euroc.yaml] [--json FILE]
+// With --mono it also runs hybrid on cam0 alone (the mono-inertial rig) and compares it with
+// the stereo hybrid run.
 // A simulated sequence is first written to a temporary EuRoC folder (removed at the end), so
 // both modes read identical frames and rendering is in neither mode's time nor memory.
 // Times are wall-clock per frame as the tracker reports them: run on an otherwise idle machine.
@@ -61,9 +63,13 @@ void write_sim_dataset(const hs::sim::Scenario& scenario, const std::string& dir
 }
 
 hs::ModeReport run_mode(hs::TrackerOptions options, hs::DescriptorMode mode,
-                        const std::string& dataset_dir, bool calib_from_dataset) {
-  const std::string name = mode == hs::DescriptorMode::kHybrid ? "hybrid" : "every-frame";
+                        const std::string& dataset_dir, bool calib_from_dataset,
+                        bool mono = false) {
+  const std::string name =
+      std::string(mode == hs::DescriptorMode::kHybrid ? "hybrid" : "every-frame") +
+      (mono ? " mono" : "");
   options.descriptors = mode;
+  if (mono) options.stereo = false;
   std::fprintf(stderr, "hs-bench-tracker: %s on %s\n", name.c_str(), dataset_dir.c_str());
   const hs::ChildResult child = hs::run_in_child(name + " run", [&] {
     const hs::EurocReader reader(dataset_dir);
@@ -98,6 +104,8 @@ int main(int argc, char** argv) {
   app.add_option("--config", config, "tracker config (default: built-in EuRoC settings)")
       ->check(CLI::ExistingFile);
   app.add_option("--json", json_path, "also write the figures as JSON");
+  bool with_mono = false;
+  app.add_flag("--mono", with_mono, "also run hybrid on cam0 alone and compare mono with stereo");
   CLI11_PARSE(app, argc, argv);
   if (dataset.empty() && sim_path.empty()) {
     std::cerr << "hs-bench-tracker: give --dataset DIR or --sim SCENARIO.yaml\n";
@@ -126,6 +134,9 @@ int main(int argc, char** argv) {
     const double baseline_rss_mb = hs::self_peak_rss_mb();
     const hs::ModeReport hybrid =
         run_mode(options, hs::DescriptorMode::kHybrid, dataset, calib_from_dataset);
+    std::optional<hs::ModeReport> mono;
+    if (with_mono)
+      mono = run_mode(options, hs::DescriptorMode::kHybrid, dataset, calib_from_dataset, true);
     const hs::ModeReport every_frame =
         run_mode(options, hs::DescriptorMode::kEveryFrame, dataset, calib_from_dataset);
     const std::vector<hs::TargetCheck> checks = hs::check_targets(hybrid, every_frame);
@@ -136,10 +147,12 @@ int main(int argc, char** argv) {
         "scale, the bench process alone (program and libraries) peaks at %.1f MB\n\n",
         baseline_rss_mb);
     std::printf("%s", hs::comparison_text(hybrid, every_frame, checks).c_str());
+    if (mono) std::printf("\n%s", hs::rig_comparison_text(hybrid, *mono).c_str());
     if (!json_path.empty()) {
       nlohmann::json j = hs::comparison_json(hybrid, every_frame, checks);
       j["sequence"] = sequence;
       j["baseline_rss_mb"] = baseline_rss_mb;
+      if (mono) j["mono"] = to_json(*mono);
       hs::write_file_atomically(json_path, j.dump(2) + "\n");
     }
   } catch (const std::exception& e) {

@@ -71,7 +71,10 @@ int main(int argc, char** argv) {
     std::optional<hs::sim::DatasetGenerator> gen;
     hs::EventSource source;
     if (!dataset.empty()) {
-      reader.emplace(dataset);
+      hs::EurocOptions euroc;
+      euroc.use_cam1 = !mono;
+      reader.emplace(dataset, euroc);
+      if (!reader->stereo()) options.stereo = false;  // a mono rig's dataset (no cam1)
       if (config.empty()) options.calib = hs::read_stereo_calib(reader->mav0());
       stream.emplace(*reader);
       std::cerr << "hs-run: " << reader->frames().size() << " frames from " << reader->mav0()

@@ -28,6 +28,7 @@ std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBu
           {"relocalisations_rejected", t.relocalisations_rejected},
           {"reinitialisations", t.reinitialisations},
           {"maps_continued", t.maps_continued},
+          {"scale_corrections", t.scale_corrections},
           {"corrections_applied", t.corrections_applied},
           {"corrections_ignored", t.corrections_ignored},
           {"correction_jumps", t.correction_jumps},

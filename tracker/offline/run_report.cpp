@@ -186,12 +186,14 @@ std::vector<TargetCheck> check_targets(const ModeReport& hy, const ModeReport& e
   return out;
 }
 
-std::string comparison_text(const ModeReport& hy, const ModeReport& ef,
-                            const std::vector<TargetCheck>& checks) {
+namespace {
+
+// Two runs side by side, with the ratio b / a of their times.
+std::string side_by_side(const ModeReport& hy, const ModeReport& ef) {
   std::ostringstream o;
   char line[160];
-  std::snprintf(line, sizeof line, "%-32s %12s %12s %12s\n", "", "hybrid", "every-frame",
-                "every/hybrid");
+  std::snprintf(line, sizeof line, "%-32s %12s %12s %12s\n", "", hy.mode.c_str(), ef.mode.c_str(),
+                "ratio");
   o << line;
   // A row of two figures ("-" for none); the ratio column only for times.
   const auto cell = [](const char* fmt, double v) { return std::isnan(v) ? "-" : format(fmt, v); };
@@ -225,6 +227,22 @@ std::string comparison_text(const ModeReport& hy, const ModeReport& ef,
     if (!r->ate_error.empty()) o << "  no ATE for " << r->mode << ": " << r->ate_error << "\n";
   row("peak RSS [MB]", hy.peak_rss_mb, ef.peak_rss_mb, "%.1f", false);
   row("process CPU, incl. image I/O [s]", hy.cpu_s, ef.cpu_s, "%.2f", true);
+  return o.str();
+}
+
+}  // namespace
+
+std::string rig_comparison_text(const ModeReport& stereo, const ModeReport& mono) {
+  return "stereo vs mono rig (hybrid; mono times from its two-view start on):\n" +
+         side_by_side(stereo, mono);
+}
+
+std::string comparison_text(const ModeReport& hy, const ModeReport& ef,
+                            const std::vector<TargetCheck>& checks) {
+  std::ostringstream o;
+  char line[160];
+  o << side_by_side(hy, ef);
+  const TimingSummary &h = hy.timing, &e = ef.timing;
   // The paper's "Improvements" column: reduction of the mean time per frame.
   if (e.all.mean > 0.0)
     o << format("improvement of the per-frame mean (1 - hybrid/every-frame): %.1f%%\n",
@@ -268,7 +286,10 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   o << "frames " << result.frames.size() << " (tracked " << tracked << ", lost " << lost
     << "), keyframes " << c.keyframes << ", relocalisations " << c.relocalisations
     << " (rejected by the IMU gate " << c.relocalisations_rejected << "), local maps restarted "
-    << c.reinitialisations << " (" << c.maps_continued << " continuing the map)\n";
+    << c.reinitialisations << " (" << c.maps_continued << " continuing the map)"
+    << (c.scale_corrections > 0 ? ", mono scale corrections " + std::to_string(c.scale_corrections)
+                                : std::string())
+    << "\n";
   o << "rejected frames: out-of-order " << c.rejected_out_of_order << ", bad image "
     << c.rejected_bad_image << ", IMU clock " << c.rejected_clock_offset
     << "; missing right images " << c.missing_right_image << "; IMU gaps bridged " << c.imu_gaps
@@ -279,6 +300,16 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   if (!eval_error.empty()) o << "no evaluation: " << eval_error << "\n";
   if (eval) {
     o << summary_text(*eval);
+    // The scale a Sim(3) alignment finds: a mono run's scale error (metric stereo: near 1).
+    EvalOptions sim3 = eval->options;
+    sim3.align = AlignMode::kSim3;
+    try {
+      const EvalResult s = evaluate(result.ground_truth_trajectory(), result.estimate(), sim3);
+      o << "Sim(3) alignment: scale " << s.alignment.s << " (error "
+        << 100.0 * std::abs(s.alignment.s - 1.0) << " %), ATE " << s.ape.stats.rmse << " m\n";
+    } catch (const InputError& e) {
+      o << "no Sim(3) alignment: " << e.what() << "\n";
+    }
     // The ground truth beside the estimate, so hs-eval's other options (Sim(3), RPE deltas) and
     // evo can be run on the pair.
     save_tum(out_dir + "/groundtruth.tum", result.ground_truth_trajectory());

@@ -67,6 +67,8 @@ std::vector<TargetCheck> check_targets(const ModeReport& hybrid, const ModeRepor
 // Side-by-side table (hybrid, every-frame, ratio every-frame / hybrid) and the target checks.
 std::string comparison_text(const ModeReport& hybrid, const ModeReport& every_frame,
                             const std::vector<TargetCheck>& checks);
+// hs-bench-tracker --mono: the same hybrid tracker on the stereo rig and on cam0 alone.
+std::string rig_comparison_text(const ModeReport& stereo, const ModeReport& mono);
 nlohmann::json comparison_json(const ModeReport& hybrid, const ModeReport& every_frame,
                                const std::vector<TargetCheck>& checks);
 
