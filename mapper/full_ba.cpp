@@ -16,18 +16,10 @@ LocalBaInput full_ba_input(const KeyframeGraph& graph, int32_t world, const Eige
       if (kp.point_id >= 0) points.insert(kp.point_id);
   }
   window.points.assign(points.begin(), points.end());
-  const double far_m = options.fixed_point_distance_m;
-  options.fixed_point_distance_m = 0.0;
+  // A point far from every keyframe seeing it: its stereo depth is all that fixes it.
+  options.far_from_observers = true;
   LocalBaInput input = window_input(graph, window, options).input;
   input.gravity = {g_w, 0.0};
-  // A point far from every keyframe seeing it: its stereo depth is all that fixes it.
-  if (far_m > 0)
-    for (BaPoint& p : input.points) {
-      bool near = false;
-      for (const Observation& o : graph.point(p.id)->observations)
-        near = near || (graph.keyframe(o.keyframe_id)->state.p_w_b - p.p_w).norm() < far_m;
-      p.fixed = !near;
-    }
   return input;
 }
 

@@ -1,5 +1,6 @@
 #include "mapper/window_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <unordered_set>
@@ -24,11 +25,15 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
   LocalBaInput& in = out.input;
   const std::set<int64_t> free(window.keyframes.begin(), window.keyframes.end());
   std::set<int64_t> fixed(window.fixed_keyframes.begin(), window.fixed_keyframes.end());
-  const auto far_from = [&](const std::set<int64_t>& keyframes, const Eigen::Vector3d& p_w) {
-    for (int64_t id : keyframes)
-      if ((graph.keyframe(id)->state.p_w_b - p_w).norm() < options.fixed_point_distance_m)
-        return false;
-    return true;
+  const auto near = [&](int64_t keyframe, const Eigen::Vector3d& p_w) {
+    return (graph.keyframe(keyframe)->state.p_w_b - p_w).norm() < options.fixed_point_distance_m;
+  };
+  const auto far = [&](const MapperPoint& p) {
+    if (options.fixed_point_distance_m <= 0) return false;
+    if (options.far_from_observers)
+      return std::none_of(p.observations.begin(), p.observations.end(),
+                          [&](const Observation& o) { return near(o.keyframe_id, p.p_w); });
+    return std::none_of(free.begin(), free.end(), [&](int64_t k) { return near(k, p.p_w); });
   };
   // The IMU factor into the oldest optimised keyframes needs their predecessor, held fixed.
   for (int64_t id : free)
@@ -44,7 +49,7 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
     const MapperPoint& p = *graph.point(id);
     if (p.observations.size() < 2) continue;
     points.insert(id);
-    in.points.push_back({id, p.p_w, options.fixed_point_distance_m > 0 && far_from(free, p.p_w)});
+    in.points.push_back({id, p.p_w, far(p)});
   }
 
   for (const BaKeyframe& k : in.keyframes) {

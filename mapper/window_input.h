@@ -27,6 +27,8 @@ struct WindowInputOptions {
   // Points farther than this from every optimised keyframe are held fixed (0: none). The
   // Mapper sets it from the calibration (MapperOptions::far_point_disparity_px).
   double fixed_point_distance_m = 0.0;
+  // ... from every keyframe observing it instead (a full BA, whose keyframes are all optimised).
+  bool far_from_observers = false;
 };
 
 struct WindowInput {
