@@ -33,8 +33,7 @@ LoopClosureStats close_loop(KeyframeGraph& graph, const std::vector<LoopFound>& 
   for (const auto& [id, T] : result.T_w_b) {
     delta[id] = T * before.at(id).inverse();
     NavState s = graph.keyframe(id)->state;
-    s.p_w_b = T.translation();
-    s.q_w_b = Eigen::Quaterniond(T.linear()).normalized();
+    s.set_T_w_b(T);
     s.v_w = delta[id].linear() * s.v_w;
     graph.set_state(id, s);
     stats.max_shift_m = std::max(stats.max_shift_m, delta[id].translation().norm());

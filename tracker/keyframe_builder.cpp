@@ -131,7 +131,7 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     // to the frames that follow.
     if (MapPoint* p = map.point(kf->point_ids[i])) {
       p->ref_keyframe_id = kf->id;
-      p->ref_uv = Eigen::Vector2d(kf->features.keypoints[i].pt.x, kf->features.keypoints[i].pt.y);
+      p->ref_uv = kf->features.uv(i);
     }
   }
 
@@ -188,7 +188,7 @@ void KeyframeBuilder::add_point(Keyframe& kf, int i, const Eigen::Vector3d& p_w,
   p.p_w = p_w;
   std::memcpy(p.descriptor.data(), kf.features.descriptors.ptr<uint8_t>(i), 32);
   p.ref_keyframe_id = kf.id;
-  p.ref_uv = Eigen::Vector2d(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+  p.ref_uv = kf.features.uv(i);
   p.octave = kf.features.keypoints[i].octave;
   map.add_point(p);
   kf.point_ids[i] = p.id;
@@ -201,17 +201,14 @@ void KeyframeBuilder::add_mono_points(Keyframe& kf, LocalMap& map, KeyframeBuild
   const std::shared_ptr<Keyframe> prev = map.latest_keyframe();
   if (!prev) return;
   const PinholeRadtan& cam = options_.calib.cam0.intrinsics;
-  const auto keypoint = [](const Keyframe& k, int i) {
-    return Eigen::Vector2d(k.features.keypoints[i].pt.x, k.features.keypoints[i].pt.y);
-  };
   FreeKeypoints a(kf.T_w_c0, cam), b(prev->T_w_c0, cam);
   for (int i : new_point_candidates(kf, cam.width, cam.height))
-    a.add(i, keypoint(kf, i), kf.features.keypoints[i].octave,
+    a.add(i, kf.features.uv(i), kf.features.keypoints[i].octave,
           kf.features.descriptors.ptr<uint8_t>(i));
   for (size_t j = 0; j < prev->point_ids.size(); ++j)
     if (prev->point_ids[j] < 0)
-      b.add(static_cast<int>(j), keypoint(*prev, static_cast<int>(j)),
-            prev->features.keypoints[j].octave, prev->features.descriptors.ptr<uint8_t>(j));
+      b.add(static_cast<int>(j), prev->features.uv(j), prev->features.keypoints[j].octave,
+            prev->features.descriptors.ptr<uint8_t>(j));
   std::vector<bool> used(a.keypoints().size(), false);
   for (const EpipolarPoint& e : triangulate_epipolar(a, b, cam, options_.mono.points, used)) {
     add_point(kf, a.keypoints()[e.a].index, e.p_w, map, st);
@@ -227,7 +224,7 @@ void KeyframeBuilder::refine_mono_points(const Keyframe& kf, LocalMap& map,
   for (size_t i = 0; i < kf.point_ids.size(); ++i) {
     MapPoint* p = kf.point_ids[i] >= 0 ? map.point(kf.point_ids[i]) : nullptr;
     if (!p) continue;
-    const Eigen::Vector2d uv(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+    const Eigen::Vector2d uv = kf.features.uv(i);
     p->sightings.emplace_back(kf.id, uv);
     views.clear();
     for (const auto& [id, uv_k] : p->sightings) {
@@ -249,8 +246,7 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
                                         KeyframeBuildStats& st) const {
   std::vector<int> chosen = new_point_candidates(kf, frame.cam0.cols, frame.cam0.rows);
   std::vector<Eigen::Vector2d> uv0;
-  for (int i : chosen)
-    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+  for (int i : chosen) uv0.push_back(kf.features.uv(i));
   // For a mapper, the keyframe's tracked points are matched in cam1 too (in the same pass): a
   // stereo view of every point at every keyframe, not only where it was created, constrains
   // the depth of far points in the bundle adjustment (room_mav 20 s with the mapper: ATE
@@ -259,7 +255,7 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
   for (size_t i = 0; i < kf.point_ids.size() && stereo_for_tracked_; ++i) {
     if (kf.point_ids[i] < 0) continue;
     chosen.push_back(static_cast<int>(i));
-    uv0.emplace_back(kf.features.keypoints[i].pt.x, kf.features.keypoints[i].pt.y);
+    uv0.push_back(kf.features.uv(i));
   }
   const std::vector<StereoMatch> matches = stereo_.match(frame.cam0, frame.cam1, uv0);
   for (size_t k = num_new; k < chosen.size(); ++k) {

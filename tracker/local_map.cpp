@@ -73,9 +73,7 @@ Eigen::Isometry3d WorldSimilarity::camera(const Eigen::Isometry3d& T_w_c) const 
 
 NavState WorldSimilarity::body(const NavState& x, const Eigen::Isometry3d& T_b_c) const {
   NavState y = x;
-  const Eigen::Isometry3d T_w_b = camera(x.T_w_b() * T_b_c) * T_b_c.inverse();
-  y.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
-  y.p_w_b = T_w_b.translation();
+  y.set_T_w_b(camera(x.T_w_b() * T_b_c) * T_b_c.inverse());
   y.v_w = scale * (R_new_old * x.v_w);
   return y;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // ORB keypoints and descriptors, only ever computed for keyframes (and for relocalisation),
 // spread over the image by a grid so that pose estimation sees the whole field of view.
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 #include <vector>
@@ -20,6 +21,7 @@ struct OrbFeatures {
   std::vector<cv::KeyPoint> keypoints;  // distorted pixels of the full-resolution image
   cv::Mat descriptors;                  // rows x 32, CV_8U
   size_t size() const { return keypoints.size(); }
+  Eigen::Vector2d uv(size_t i) const { return {keypoints[i].pt.x, keypoints[i].pt.y}; }
 };
 
 class OrbExtractor {

@@ -53,9 +53,8 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
   std::vector<Eigen::Vector3d> obj;
   std::vector<Eigen::Vector2d> img;
   for (const auto& [q, t] : pairs) {
-    const cv::Point2f& pt = current.keypoints[q].pt;
     obj.push_back(p_w[t]);
-    img.push_back(cam.unproject_normalised(Eigen::Vector2d(pt.x, pt.y)));
+    img.push_back(cam.unproject_normalised(current.uv(q)));
   }
   PnpOptions pnp;
   pnp.threshold = 3.0 / cam.fx;
@@ -67,14 +66,13 @@ RelocResult Relocaliser::against_keyframe(const Keyframe& kf, const OrbFeatures&
   const Eigen::Isometry3d T_w_b = solved.T_c_a.inverse() * options_.calib.cam0.T_b_c.inverse();
 
   NavState start = guess;
-  start.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
-  start.p_w_b = T_w_b.translation();
+  start.set_T_w_b(T_w_b);
   std::vector<PoseObservation> obs;
   std::vector<int64_t> ids;
   for (const auto& [q, t] : pairs) {
     PoseObservation o;
     o.p_w = p_w[t];
-    o.uv = Eigen::Vector2d(current.keypoints[q].pt.x, current.keypoints[q].pt.y);
+    o.uv = current.uv(q);
     o.sigma_px = level_sigma_px(current.keypoints[q].octave, options_.orb.scale_factor);
     obs.push_back(o);
     ids.push_back(kf.point_ids[rows[t]]);

@@ -246,7 +246,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
   // Failure check fired (Algorithm 1): relocalise with the reference keyframe (Eq. 7), then
   // globally (Eq. 8).
   std::string why = "tracking failed (" + opt.reason + ")";
-  scale_window_.reset();  // its frames must chain
+  scale_window_.clear();  // its frames must chain
   if (bootstrap_ && bootstrap_->up_to_scale) {
     // A mono map of unknown scale cannot be carried by the IMU: start again.
     r.message = why;
@@ -366,7 +366,7 @@ void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
   last_->has_information = true;
   const bool bootstrap_up_to_scale = bootstrap_->up_to_scale;
   bootstrap_.reset();
-  scale_window_.reset();
+  scale_window_.clear();
   r.state = state_;
   r.nav = nav;
   r.message += (r.message.empty() ? "" : "; ") +
@@ -408,23 +408,18 @@ ViAlignmentResult Tracker::align_mono(const std::vector<TimedPose>& camera_poses
 }
 
 void Tracker::refine_scale(bool imu_bridged, FrameResult& r) {
-  if (!imu_bridged || !scale_window_) {
-    // Starts (again) at this frame: a window must be bridged by the IMU throughout.
-    scale_window_ = Bootstrap{true, {{last_->t_ns, T_w_c0(last_->nav)}}, {}};
-    return;
-  }
-  Bootstrap& w = *scale_window_;
-  w.poses.push_back({last_->t_ns, T_w_c0(last_->nav)});
-  while (w.poses.size() > 2 &&
-         w.poses.back().t_ns - w.poses[1].t_ns >= options_.mono.refine_window_ns)
-    w.poses.erase(w.poses.begin());
-  if (w.poses.back().t_ns - w.poses.front().t_ns < options_.mono.refine_window_ns ||
+  if (!imu_bridged) scale_window_.clear();  // starts again at this frame
+  std::vector<TimedPose>& w = scale_window_;
+  w.push_back({last_->t_ns, T_w_c0(last_->nav)});
+  while (w.size() > 2 && w.back().t_ns - w[1].t_ns >= options_.mono.refine_window_ns)
+    w.erase(w.begin());
+  if (w.back().t_ns - w.front().t_ns < options_.mono.refine_window_ns ||
       last_->t_ns - last_scale_check_ns_ < options_.mono.refine_period_ns)
     return;
   last_scale_check_ns_ = last_->t_ns;
   ViAlignmentOptions o = options_.mono.alignment;
   o.max_scale_sigma = options_.mono.refine_max_scale_sigma;
-  const ViAlignmentResult a = align_mono(w.poses, o);
+  const ViAlignmentResult a = align_mono(w, o);
   // Corrected only when the IMU says the scale is off by more than twice its uncertainty.
   if (!a.ok || std::abs(a.scale - 1.0) <= 2.0 * a.scale_sigma) return;
   // About the current camera: the pose does not jump, the map (and the path behind) rescales.
@@ -437,7 +432,7 @@ void Tracker::refine_scale(bool imu_bridged, FrameResult& r) {
   last_->nav = S.body(last_->nav, T_b_c);
   last_->nav.v_w = a.v_w.back();
   ++counters_.scale_corrections;
-  scale_window_.reset();
+  scale_window_.clear();
   r.nav = last_->nav;
   r.message += (r.message.empty() ? "" : "; ") + std::string("map rescaled by ") +
                std::to_string(a.scale) + " +- " + std::to_string(a.scale_sigma) +
@@ -622,7 +617,7 @@ Tracker::Correspondences Tracker::descriptor_correspondences(const OrbFeatures& 
     const cv::KeyPoint& kp = features.keypoints[match[k]];
     PoseObservation o;
     o.p_w = visible[order[k]]->p_w;
-    o.uv = Eigen::Vector2d(kp.pt.x, kp.pt.y);
+    o.uv = features.uv(match[k]);
     o.sigma_px = level_sigma_px(kp.octave, options_.orb.scale_factor);
     out.obs.push_back(o);
     out.point_ids.push_back(visible[order[k]]->id);
@@ -683,8 +678,7 @@ void Tracker::accept(const StereoFrame& frame, ImagePyramid pyr, const NavState&
       if (kf->point_ids[i] >= 0 &&
           !std::any_of(tracked.begin(), tracked.end(),
                        [&](const TrackedObservation& t) { return t.point_id == kf->point_ids[i]; }))
-        tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
-                                                             kf->features.keypoints[i].pt.y)});
+        tracked.push_back({kf->point_ids[i], kf->features.uv(i)});
     for (size_t i = r.features.size(); i < tracked.size(); ++i)
       r.features.push_back({tracked[i].uv.cast<float>(), FeatureSource::kNew});
     map_.add_keyframe(kf);
@@ -797,9 +791,7 @@ bool Tracker::initialise_mono(const StereoFrame& frame, const ImagePyramid& pyr,
   const Eigen::Isometry3d T_w_c_cur = T_w_c_ref * T_ref_cur;
   NavState nav;
   nav.t_ns = frame.t_ns;
-  const Eigen::Isometry3d T_w_b = T_w_c_cur * T_b_c.inverse();
-  nav.q_w_b = Eigen::Quaterniond(T_w_b.linear()).normalized();
-  nav.p_w_b = T_w_b.translation();
+  nav.set_T_w_b(T_w_c_cur * T_b_c.inverse());
 
   // The first keyframe sees the two-view points where they are now; they take the keypoints
   // (and descriptors) they are attached to there, and the few ORB cannot describe go.
@@ -855,7 +847,7 @@ void Tracker::restart_mono(FrameResult& r) {
   state_ = TrackState::kInitialising;
   mono_init_.reset();
   bootstrap_.reset();
-  scale_window_.reset();
+  scale_window_.clear();
   map_.clear();
   ++map_id_;
   ++counters_.reinitialisations;
@@ -916,9 +908,7 @@ void Tracker::begin_local_map(const ImagePyramid& pyr, const NavState& nav,
   lost_since_ns_ = -1;
   std::vector<TrackedObservation> tracked;
   for (size_t i = 0; i < kf->point_ids.size(); ++i)
-    if (kf->point_ids[i] >= 0)
-      tracked.push_back({kf->point_ids[i], Eigen::Vector2d(kf->features.keypoints[i].pt.x,
-                                                           kf->features.keypoints[i].pt.y)});
+    if (kf->point_ids[i] >= 0) tracked.push_back({kf->point_ids[i], kf->features.uv(i)});
   remember_keyframe_view(kf->state.t_ns, kf->T_w_c0, tracked);
 
   last_tracked_t_ns_ = kf->state.t_ns;

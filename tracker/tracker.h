@@ -170,8 +170,9 @@ class Tracker {
   int64_t lost_since_ns_ = -1;
   int64_t last_tracked_t_ns_ = 0;  // last frame tracked or relocalised
   std::optional<Bootstrap> bootstrap_;
-  // Mono, once aligned: recent cam0 poses for the scale check.
-  std::optional<Bootstrap> scale_window_;
+  // Mono, once aligned: recent cam0 poses for the scale check, bridged by the IMU throughout
+  // (empty: starts at the next frame).
+  std::vector<TimedPose> scale_window_;
   int64_t last_scale_check_ns_ = 0;
   bool mapper_present_ = false;
   cv::Mat init_previous_image_;  // while initialising: to tell a static start from a moving one

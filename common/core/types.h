@@ -27,6 +27,10 @@ struct NavState {
     T.translation() = p_w_b;
     return T;
   }
+  void set_T_w_b(const Eigen::Isometry3d& T) {
+    q_w_b = Eigen::Quaterniond(T.linear()).normalized();
+    p_w_b = T.translation();
+  }
 };
 
 // The same state in a world frame rotated by R_new_old (biases are body-frame: unchanged).
