@@ -462,6 +462,53 @@ TEST(ViAlignment, UpToScaleRealEurocFlightRecoversTheScale) {
   EXPECT_GE(solved, 3);
 }
 
+// The real flying frames of V1_01 (issue 10's mono target), ground-truth camera poses made up to
+// scale with the real IMU and the mono options: what the IMU can tell of the scale with perfect
+// vision. Measured from the first frame (285.26 s) at 0.2 s spacing: to frame 52 (2.6 s) refused,
+// scale -2.6% +- 5.6%; to frame 64 (3.2 s) -2.4% +- 4.7%; from 1 s earlier (IMU only, no images
+// there) to frame 52: -2.8% +- 2.6%. The tracker's own start at frame 52 rests on vision poses
+// and comes out further off (see MonoAccuracy).
+TEST(ViAlignment, UpToScaleRealV1_01FlightNeedsMoreThanItsFirstSixtyFrames) {
+  const std::string dir = kEuroc + "/V1_01_flight_cam0/mav0";
+  if (!std::filesystem::exists(dir))
+    GTEST_SKIP() << "EuRoC V1_01_flight_cam0 not found under " << kEuroc;
+  const std::vector<NavState> gt =
+      read_ground_truth_csv(dir + "/state_groundtruth_estimate0/data.csv");
+  const std::vector<ImuSample> imu = read_imu_csv(dir + "/imu0/data.csv");
+  ViAlignmentOptions options;  // as MonoOptions::alignment
+  options.max_accel_bias_sigma = 0.05;
+  options.accel_bias_prior_sigma = 0.2;
+  constexpr double kScale = 2.0;
+  constexpr int64_t kFirstFrameNs = 1403715285262142976;
+  const auto align = [&](int64_t t0_ns, int64_t t1_ns) {
+    Window w;
+    int64_t prev_ns = 0;
+    for (const NavState& s : gt) {
+      if (s.t_ns < t0_ns - 10'000'000 || s.t_ns > t1_ns + 10'000'000) continue;
+      if (!w.poses.empty() && s.t_ns - prev_ns < 190'000'000) continue;
+      w.poses.push_back({s.t_ns, s.T_w_b()});
+      if (w.poses.size() > 1) w.pims.push_back(preintegrate(imu, prev_ns, s.t_ns, ImuBias{}));
+      prev_ns = s.t_ns;
+    }
+    return align_visual_inertial_up_to_scale(up_to_scale(w, camera_extrinsic(), kScale),
+                                             camera_extrinsic(), w.pims, options);
+  };
+  const int64_t frame52_ns = kFirstFrameNs + 52 * int64_t{50'000'000};
+  const ViAlignmentResult to52 = align(kFirstFrameNs, frame52_ns);
+  EXPECT_FALSE(to52.ok);
+  EXPECT_NE(to52.reason.find("not enough acceleration"), std::string::npos) << to52.reason;
+  const ViAlignmentResult to64 = align(kFirstFrameNs, kFirstFrameNs + 64 * int64_t{50'000'000});
+  ASSERT_TRUE(to64.ok) << to64.reason;
+  EXPECT_NEAR(to64.scale, kScale, 0.05 * kScale);
+  const ViAlignmentResult earlier = align(kFirstFrameNs - 1'000'000'000, frame52_ns);
+  ASSERT_TRUE(earlier.ok) << earlier.reason;
+  EXPECT_NEAR(earlier.scale, kScale, 0.05 * kScale);
+  std::cout << "V1_01 flight, perfect vision: to frame 52 " << to52.reason << "; to frame 64 "
+            << to64.scale / kScale - 1 << " +- " << to64.scale_sigma / kScale
+            << "; 1 s earlier to frame 52 " << earlier.scale / kScale - 1 << " +- "
+            << earlier.scale_sigma / kScale << "\n";
+}
+
 TEST(ViAlignment, RefusesDegenerateInput) {
   const AnalyticMotion motion;
   const Noise noise{1.0, 0.001, 0.02 * kDeg};
