@@ -372,7 +372,10 @@ void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
   r.message += (r.message.empty() ? "" : "; ") +
                std::string("vision and IMU aligned: gravity tilt corrected by ") +
                std::to_string(Eigen::AngleAxisd(R).angle() * 180.0 / M_PI) + " deg" +
-               (a.weak_excitation ? " (little excitation: accel bias held)" : "") +
+               (a.weak_excitation
+                    ? (a.accel_bias_estimated ? " (little excitation: accel bias near its prior)"
+                                              : " (little excitation: accel bias held)")
+                    : "") +
                (bootstrap_up_to_scale ? ", scale " + std::to_string(a.scale) + " +- " +
                                             std::to_string(a.scale_sigma) + " over " +
                                             std::to_string(span_ns / 1000000) + " ms"

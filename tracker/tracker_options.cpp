@@ -137,6 +137,8 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("max_scale_sigma", m.alignment.max_scale_sigma);
     s.read("accel_bias_prior_sigma", m.alignment.accel_bias_prior_sigma);
     s.read("vision_position_sigma_m", m.alignment.vision_position_sigma_m);
+    s.read_degrees("vision_rotation_sigma_deg", m.alignment.vision_rotation_sigma_rad);
+    s.read_degrees("rotation_drift_sigma_deg_s", m.alignment.vision_rotation_drift_sigma);
     s.read_seconds("refine_window_s", m.refine_window_ns);
     s.read_seconds("refine_period_s", m.refine_period_ns);
     s.read("refine_max_scale_sigma", m.refine_max_scale_sigma);
@@ -144,7 +146,8 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("point_min_parallax_deg", m.points.min_parallax_deg);
     if (!(m.init.min_flow_px > 0 && m.init.min_tracked >= 8 && m.initial_median_depth_m > 0 &&
           m.alignment.max_scale_sigma > 0 && m.alignment.accel_bias_prior_sigma >= 0 &&
-          m.alignment.vision_position_sigma_m > 0 && m.points.min_parallax_deg > 0 &&
+          m.alignment.vision_position_sigma_m > 0 && m.alignment.vision_rotation_sigma_rad > 0 &&
+          m.alignment.vision_rotation_drift_sigma >= 0 && m.points.min_parallax_deg > 0 &&
           m.refine_window_ns > 0 && m.refine_period_ns > 0 && m.refine_max_scale_sigma > 0 &&
           m.alignment_spacing_ns > 0))
       s.fail("min_flow_px", "mono options out of range");

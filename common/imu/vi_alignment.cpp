@@ -189,8 +189,28 @@ struct TranslationalSystem {
   Eigen::VectorXd r;
   int num_states = 0;   // columns of the positions and velocities
   int num_gravity = 0;  // columns of y
+  int drift_col = -1;   // the gyro bias correction's 3 columns when the vision may drift
   int scale_col = -1;   // the scale's column (last) when it is free
 };
+
+// Vision attitudes that drift slowly, as a mono visual odometry's do (a pitch drift of 0.75 deg/s
+// on the real V1_01 flight): the gyro bias fitted to them in step (1) takes the drift, and
+// the attitudes carry it into gravity's direction and from there into the scale. A correction
+// `delta` to that bias moves attitude i (from the first, held) by Exp(A_i delta) along the
+// preintegrated chain; the translational equations weigh it against the prior.
+struct GyroDrift {
+  std::vector<Eigen::Matrix3d> A;
+  Eigen::Vector3d applied = Eigen::Vector3d::Zero();  // corrections so far (rad/s)
+  double sigma = 0.0;                                 // prior on the total (rad/s)
+};
+
+// A_0 = 0, A_{i+1} = dR_i^T A_i + dR_i/dbg: the chain's Jacobian in each pose's body frame.
+std::vector<Eigen::Matrix3d> chain_jacobians(const std::vector<ImuPreintegration>& pims) {
+  std::vector<Eigen::Matrix3d> A{Eigen::Matrix3d::Zero()};
+  for (const ImuPreintegration& pim : pims)
+    A.push_back(pim.delta().R.transpose() * A.back() + pim.dR_dbg());
+  return A;
+}
 
 // The vision positions as a prior on the body positions: p_i = s * a_i + b_i, with s = 1 (a the
 // metric positions, b zero) or a free scale (a the up-to-scale camera positions, b the metric
@@ -213,16 +233,22 @@ TranslationalSystem build_translational(const PositionPrior& prior,
                                         const std::vector<Eigen::Matrix3d>& R_w_b,
                                         const std::vector<ImuPreintegration>& pims,
                                         const Eigen::Vector3d& g0, const Eigen::MatrixXd& M,
-                                        bool with_accel_bias, const ViAlignmentOptions& options) {
+                                        bool with_accel_bias, const ViAlignmentOptions& options,
+                                        const GyroDrift* drift = nullptr) {
   const int n = static_cast<int>(prior.a.size());
   TranslationalSystem s;
   s.num_states = 6 * n;
   s.num_gravity = static_cast<int>(M.cols());
   const int g_col = s.num_states, ba_col = s.num_states + s.num_gravity;
-  const int cols = ba_col + (with_accel_bias ? 3 : 0);
+  int cols = ba_col + (with_accel_bias ? 3 : 0);
+  if (drift) {
+    s.drift_col = cols;
+    cols += 3;
+  }
   if (prior.free_scale) s.scale_col = cols;
   const bool bias_prior = with_accel_bias && options.accel_bias_prior_sigma > 0.0;
-  s.J.setZero(3 * n + 6 * (n - 1) + (bias_prior ? 3 : 0), cols + (prior.free_scale ? 1 : 0));
+  const int prior_rows = (bias_prior ? 3 : 0) + (drift ? 3 : 0);
+  s.J.setZero(3 * n + 6 * (n - 1) + prior_rows, cols + (prior.free_scale ? 1 : 0));
   s.r.setZero(s.J.rows());
   const double sigma_p = std::sqrt(
       options.vision_position_sigma_m * options.vision_position_sigma_m + kCovarianceFloor);
@@ -255,6 +281,12 @@ TranslationalSystem build_translational(const PositionPrior& prior,
       rows.block<3, 3>(0, ba_col) = -pim.dv_dba();
       rows.block<3, 3>(3, ba_col) = -pim.dp_dba();
     }
+    if (drift) {
+      // R_k(delta)^T x ~= R_k^T x + hat(R_k^T x) A_k delta, with R_k^T x ~= dv (dp) at the
+      // solution; the deltas move with the bias too.
+      rows.block<3, 3>(0, s.drift_col) = so3::hat(d.v) * drift->A[k] - pim.dv_dbg();
+      rows.block<3, 3>(3, s.drift_col) = so3::hat(d.p) * drift->A[k] - pim.dp_dbg();
+    }
     s.r.segment<3>(row) = -dt * Rt * g0 - d.v;
     s.r.segment<3>(row + 3) = -0.5 * dt * dt * Rt * g0 - d.p;
     // IMU noise, plus the attitude error of R_i acting on the (dv- and dp-sized) world terms.
@@ -264,10 +296,15 @@ TranslationalSystem build_translational(const PositionPrior& prior,
     whiten(cov, rows, s.r.segment<6>(row));
   }
   // The bias about its linearisation value (residual zero there).
-  if (bias_prior)
-    s.J.block<3, 3>(3 * n + 6 * (n - 1), ba_col)
-        .diagonal()
-        .setConstant(1.0 / options.accel_bias_prior_sigma);
+  int row = 3 * n + 6 * (n - 1);
+  if (bias_prior) {
+    s.J.block<3, 3>(row, ba_col).diagonal().setConstant(1.0 / options.accel_bias_prior_sigma);
+    row += 3;
+  }
+  if (drift) {
+    s.J.block<3, 3>(row, s.drift_col).diagonal().setConstant(1.0 / drift->sigma);
+    s.r.segment<3>(row) = drift->applied / drift->sigma;
+  }
   return s;
 }
 
@@ -293,7 +330,8 @@ SphereSolution refine_on_sphere(const PositionPrior& prior,
                                 const std::vector<Eigen::Matrix3d>& R_w_b,
                                 const std::vector<ImuPreintegration>& pims,
                                 const Eigen::Vector3d& dir0, bool with_accel_bias,
-                                const ViAlignmentOptions& options) {
+                                const ViAlignmentOptions& options,
+                                const GyroDrift* drift = nullptr) {
   const double G = options.gravity_magnitude;
   SphereSolution out;
   out.dir = dir0.normalized();
@@ -301,7 +339,8 @@ SphereSolution refine_on_sphere(const PositionPrior& prior,
     const Eigen::Matrix<double, 3, 2> B = tangent_basis(out.dir);
     // g(theta) = G Exp(B theta) dir ~= G dir - G hat(dir) B theta.
     const Eigen::MatrixXd M = -G * so3::hat(out.dir) * B;
-    out.system = build_translational(prior, R_w_b, pims, G * out.dir, M, with_accel_bias, options);
+    out.system =
+        build_translational(prior, R_w_b, pims, G * out.dir, M, with_accel_bias, options, drift);
     out.x = solve_least_squares(out.system.J, out.system.r);
     const Eigen::Vector2d theta = out.x.segment<2>(out.system.num_states);
     if (it == options.gravity_iterations || theta.norm() < kConvergedStep) return out;
@@ -392,6 +431,26 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
       out.accel_bias_estimated = true;
       out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
     }
+  }
+  if (options.vision_rotation_drift_sigma > 0.0) {
+    // (4) The gyro bias again, from the translational equations under a prior of the drift.
+    GyroDrift drift;
+    drift.sigma = options.vision_rotation_drift_sigma;
+    std::vector<Eigen::Matrix3d> R_w_b = rot.R_w_b;
+    ImuBias bias = pims.front().bias();
+    for (int it = 0; it < options.gravity_iterations; ++it) {
+      drift.A = chain_jacobians(pims);
+      sol =
+          refine_on_sphere(prior, R_w_b, pims, sol.dir, out.accel_bias_estimated, options, &drift);
+      const Eigen::Vector3d d = sol.x.segment<3>(sol.system.drift_col);
+      for (int i = 0; i < n; ++i) R_w_b[i] = R_w_b[i] * so3::exp(drift.A[i] * d);
+      drift.applied += d;
+      bias.gyro += d;
+      reintegrate_all(pims, bias);
+      if (d.norm() < kConvergedStep) break;
+    }
+    out.gyro_bias = rot.gyro_bias + drift.applied;
+    if (out.accel_bias_estimated) out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
   }
   if (!sol.x.allFinite()) {
     out.reason = "alignment produced non-finite estimates";

@@ -10,7 +10,9 @@
 // unconstrained gravity vector by weighted linear least squares on the vision positions and
 // the velocity and position equations of each pair; (3) gravity refined on the sphere |g| = G
 // with a 2-DoF tangent update, with the accel bias added when its marginal uncertainty is small
-// enough. The IMU equations are weighted by the preintegration covariances. For a mono camera
+// enough; (4) optionally, for vision attitudes that drift (a mono odometry's), the gyro bias
+// again from the translational equations, since (1) takes such a drift for bias. The IMU
+// equations are weighted by the preintegration covariances. For a mono camera
 // the vision positions carry an unknown scale, one more unknown of step (2) (as in Mur-Artal
 // and Tardos' visual-inertial monocular initialisation).
 //
@@ -42,6 +44,10 @@ struct ViAlignmentOptions {
   // also up to scale (the prior's residual is the metric position's).
   double vision_position_sigma_m = 0.005;
   double vision_rotation_sigma_rad = 0.002;
+  // > 0: the vision attitudes may drift by up to about this rate (rad/s; a mono odometry's do),
+  // which step (1) would take for gyro bias. The bias is then refined from the translational
+  // equations too (the drift tilts gravity against the accelerometer), under this prior.
+  double vision_rotation_drift_sigma = 0.0;
   int gyro_bias_iterations = 5;
   int gravity_iterations = 5;
   // The accel bias is estimated only when this is set and the largest marginal standard

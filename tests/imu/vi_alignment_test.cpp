@@ -391,26 +391,74 @@ Eigen::Isometry3d camera_extrinsic() {
 // Mono-inertial start (issue 10): 2 s of a moving start seen by a mono camera, positions 3.7
 // times too small: the scale comes back with gravity and velocities. Measured over the three
 // draws: 3.717, 3.637, 3.747 (+0.5%, -1.7%, +1.3%; sigma 0.035, 0.9%).
-TEST(ViAlignment, UpToScaleMovingStartRecoversTheScale) {
-  const AnalyticMotion motion;
+// The mono tests' moving start: 2 s from 1.3, 1.6 or 1.9 s (seed 1-3), with a gyro bias.
+const Noise kMonoNoise{1.0, 0.001, 0.02 * kDeg};
+constexpr double kMonoScale = 3.7;
+
+ImuBias mono_start_bias() {
   ImuBias bias;
   bias.gyro = {0.02, -0.015, 0.01};
-  const Noise noise{1.0, 0.001, 0.02 * kDeg};
-  constexpr double kScale = 3.7;
+  return bias;
+}
+
+Window mono_start(unsigned seed) {
+  return make_window(AnalyticMotion{}, s_to_ns(1.0 + 0.3 * seed), 41, mono_start_bias(), kMonoNoise,
+                     seed);
+}
+
+TEST(ViAlignment, UpToScaleMovingStartRecoversTheScale) {
+  const ImuBias bias = mono_start_bias();
+  const Noise& noise = kMonoNoise;
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const Window w = make_window(motion, s_to_ns(1.0 + 0.3 * seed), 41, bias, noise, seed);
-    const ViAlignmentResult r = align_visual_inertial_up_to_scale(
-        up_to_scale(w, camera_extrinsic(), kScale), camera_extrinsic(), w.pims, options_for(noise));
+    const Window w = mono_start(seed);
+    const ViAlignmentResult r =
+        align_visual_inertial_up_to_scale(up_to_scale(w, camera_extrinsic(), kMonoScale),
+                                          camera_extrinsic(), w.pims, options_for(noise));
     ASSERT_TRUE(r.ok) << r.reason;
-    EXPECT_NEAR(r.scale, kScale, 0.03 * kScale);
-    EXPECT_LT(std::abs(r.scale - kScale), 4.0 * r.scale_sigma + 1e-3);
+    EXPECT_NEAR(r.scale, kMonoScale, 0.03 * kMonoScale);
+    EXPECT_LT(std::abs(r.scale - kMonoScale), 4.0 * r.scale_sigma + 1e-3);
     const Errors e = errors(r, w, bias);
     EXPECT_LT(e.tilt_deg, 0.2);
     EXPECT_LT(e.gyro_bias, 1e-3);
     EXPECT_LT(e.velocity, 0.03);
-    std::cout << "up to scale: scale " << r.scale << " +- " << r.scale_sigma << " (truth " << kScale
-              << "), tilt " << e.tilt_deg << " deg, velocity " << e.velocity << " m/s\n";
+    std::cout << "up to scale: scale " << r.scale << " +- " << r.scale_sigma << " (truth "
+              << kMonoScale << "), tilt " << e.tilt_deg << " deg, velocity " << e.velocity
+              << " m/s\n";
   }
+}
+
+// The same start seen by vision whose attitudes drift 0.75 deg/s (as a mono odometry's did on
+// the real V1_01 flight), taken for gyro bias without an allowance for it. Measured over the
+// three draws, scale error without the allowance +2.6 / +2.5 / +4.6%, with it +0.2 / -2.7 /
+// +1.3%. The bias the translational equations give is noisy in a 2 s window (errors 0.008 to
+// 0.026 rad/s here, against the drift's 0.013): the allowance has a price where nothing drifts
+// (the same draws without drift: -0.1 / -2.6 / +1.6% with it, +0.4 / -1.7 / +1.3% without).
+TEST(ViAlignment, UpToScaleWithDriftingVisionAttitudes) {
+  const ImuBias bias = mono_start_bias();
+  const Eigen::Vector3d drift_b(0.0, 0.75 * kDeg, 0.0);
+  double error_drifting = 0.0, error_allowed = 0.0;
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    Window w = mono_start(seed);
+    for (TimedPose& p : w.poses)
+      p.T_w_b.linear() *= so3::exp(drift_b * ns_to_s(p.t_ns - w.poses.front().t_ns));
+    ViAlignmentOptions options = options_for(kMonoNoise);
+    const std::vector<TimedPose> cams = up_to_scale(w, camera_extrinsic(), kMonoScale);
+    const ViAlignmentResult drifting =
+        align_visual_inertial_up_to_scale(cams, camera_extrinsic(), w.pims, options);
+    options.vision_rotation_drift_sigma = 0.02;
+    const ViAlignmentResult allowed =
+        align_visual_inertial_up_to_scale(cams, camera_extrinsic(), w.pims, options);
+    ASSERT_TRUE(drifting.ok) << drifting.reason;
+    ASSERT_TRUE(allowed.ok) << allowed.reason;
+    EXPECT_NEAR(allowed.scale, kMonoScale, 0.03 * kMonoScale);
+    EXPECT_LT((allowed.gyro_bias - bias.gyro).norm(), 0.03);
+    error_drifting += std::abs(drifting.scale / kMonoScale - 1.0);
+    error_allowed += std::abs(allowed.scale / kMonoScale - 1.0);
+    std::cout << "drifting attitudes: scale error " << drifting.scale / kMonoScale - 1
+              << ", allowed for " << allowed.scale / kMonoScale - 1 << " +- "
+              << allowed.scale_sigma / kMonoScale << "\n";
+  }
+  EXPECT_LT(error_allowed, 0.7 * error_drifting);
 }
 
 // Driving straight at constant speed: no acceleration, no scale. Refused, saying so.
@@ -468,7 +516,7 @@ TEST(ViAlignment, UpToScaleRealEurocFlightRecoversTheScale) {
 // scale -2.6% +- 5.6%; to frame 64 (3.2 s) -2.4% +- 4.7%; from 1 s earlier (IMU only, no images
 // there) to frame 52: -2.8% +- 2.6%. The tracker's own start at frame 52 rests on vision poses
 // and comes out further off (see MonoAccuracy).
-TEST(ViAlignment, UpToScaleRealV1_01FlightNeedsMoreThanItsFirstSixtyFrames) {
+TEST(ViAlignment, UpToScaleRealV1_01FlightStart) {
   const std::string dir = kEuroc + "/V1_01_flight_cam0/mav0";
   if (!std::filesystem::exists(dir))
     GTEST_SKIP() << "EuRoC V1_01_flight_cam0 not found under " << kEuroc;
@@ -480,13 +528,17 @@ TEST(ViAlignment, UpToScaleRealV1_01FlightNeedsMoreThanItsFirstSixtyFrames) {
   options.accel_bias_prior_sigma = 0.2;
   constexpr double kScale = 2.0;
   constexpr int64_t kFirstFrameNs = 1403715285262142976;
-  const auto align = [&](int64_t t0_ns, int64_t t1_ns) {
+  // `drift_b`: the vision attitudes turn away from the truth at this body rate (rad/s).
+  const auto align = [&](int64_t t0_ns, int64_t t1_ns,
+                         const Eigen::Vector3d& drift_b = Eigen::Vector3d::Zero()) {
     Window w;
     int64_t prev_ns = 0;
     for (const NavState& s : gt) {
       if (s.t_ns < t0_ns - 10'000'000 || s.t_ns > t1_ns + 10'000'000) continue;
       if (!w.poses.empty() && s.t_ns - prev_ns < 190'000'000) continue;
-      w.poses.push_back({s.t_ns, s.T_w_b()});
+      Eigen::Isometry3d T_w_b = s.T_w_b();
+      T_w_b.linear() *= so3::exp(drift_b * ns_to_s(s.t_ns - t0_ns));
+      w.poses.push_back({s.t_ns, T_w_b});
       if (w.poses.size() > 1) w.pims.push_back(preintegrate(imu, prev_ns, s.t_ns, ImuBias{}));
       prev_ns = s.t_ns;
     }
@@ -507,6 +559,28 @@ TEST(ViAlignment, UpToScaleRealV1_01FlightNeedsMoreThanItsFirstSixtyFrames) {
             << to64.scale / kScale - 1 << " +- " << to64.scale_sigma / kScale
             << "; 1 s earlier to frame 52 " << earlier.scale / kScale - 1 << " +- "
             << earlier.scale_sigma / kScale << "\n";
+
+  // The mono odometry's attitudes drift 0.75 deg/s, mostly in pitch (body y), over this start
+  // (measured against the gyro and the ground truth). Taken for gyro bias, the drift tilts
+  // gravity through the window: measured, scale +9.4% off without the allowance for it, -2.1%
+  // with it (gyro bias y 0.0095 and 0.0280 rad/s, truth 0.0217).
+  const Eigen::Vector3d drift_b(0.0, 0.75 * kDeg, 0.05 * kDeg);
+  const int64_t frame64_ns = kFirstFrameNs + 64 * int64_t{50'000'000};
+  const ViAlignmentResult drifting = align(kFirstFrameNs, frame64_ns, drift_b);
+  options.vision_rotation_drift_sigma = 0.02;
+  const ViAlignmentResult allowed = align(kFirstFrameNs, frame64_ns, drift_b);
+  ASSERT_TRUE(drifting.ok) << drifting.reason;
+  ASSERT_TRUE(allowed.ok) << allowed.reason;
+  EXPECT_GT(std::abs(drifting.scale / kScale - 1.0), 0.08);
+  EXPECT_NEAR(allowed.scale, kScale, 0.05 * kScale);
+  const double true_bg_y = gt.front().gyro_bias.y();
+  EXPECT_LT(std::abs(allowed.gyro_bias.y() - true_bg_y), 0.008);
+  EXPECT_GT(std::abs(drifting.gyro_bias.y() - true_bg_y), 0.01);
+  std::cout << "V1_01 flight, attitudes drifting 0.75 deg/s: scale " << drifting.scale / kScale - 1
+            << " (gyro bias " << drifting.gyro_bias.transpose()
+            << "), allowed for: " << allowed.scale / kScale - 1 << " +- "
+            << allowed.scale_sigma / kScale << " (gyro bias " << allowed.gyro_bias.transpose()
+            << ", truth " << gt.front().gyro_bias.transpose() << ")\n";
 }
 
 TEST(ViAlignment, RefusesDegenerateInput) {

@@ -22,6 +22,8 @@ TEST(TrackerConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mono.alignment.max_scale_sigma, d.mono.alignment.max_scale_sigma);
   EXPECT_EQ(c.mono.alignment.accel_bias_prior_sigma, d.mono.alignment.accel_bias_prior_sigma);
   EXPECT_EQ(c.mono.alignment.vision_position_sigma_m, d.mono.alignment.vision_position_sigma_m);
+  EXPECT_EQ(c.mono.alignment.vision_rotation_drift_sigma,
+            d.mono.alignment.vision_rotation_drift_sigma);
   EXPECT_EQ(c.mono.refine_window_ns, d.mono.refine_window_ns);
   EXPECT_EQ(c.mono.refine_period_ns, d.mono.refine_period_ns);
   EXPECT_EQ(c.mono.refine_max_scale_sigma, d.mono.refine_max_scale_sigma);
@@ -31,11 +33,14 @@ TEST(TrackerConfig, ShippedFileHoldsTheDefaults) {
 
 TEST(TrackerConfig, AMonoRigIsReadAndBadMonoValuesNamed) {
   const test::TempYaml mono(
-      "tracker:\n  rig: mono\nmono:\n  refine_window_s: 3.0\n  vision_position_sigma_m: 0.01\n");
+      "tracker:\n  rig: mono\nmono:\n  refine_window_s: 3.0\n  vision_position_sigma_m: 0.01\n"
+      "  vision_rotation_sigma_deg: 0.5\n  rotation_drift_sigma_deg_s: 0.0\n");
   const TrackerOptions o = load_tracker_options(mono.path());
   EXPECT_FALSE(o.stereo);
   EXPECT_EQ(o.mono.refine_window_ns, 3'000'000'000);
   EXPECT_EQ(o.mono.alignment.vision_position_sigma_m, 0.01);
+  EXPECT_NEAR(o.mono.alignment.vision_rotation_sigma_rad, 0.5 * M_PI / 180.0, 1e-15);
+  EXPECT_EQ(o.mono.alignment.vision_rotation_drift_sigma, 0.0);
   const test::TempYaml bad("mono:\n  initial_median_depth_m: -1.0\n");
   test::expect_input_error([&] { load_tracker_options(bad.path()); }, {bad.path(), "mono"});
   const test::TempYaml short_window("mono:\n  max_alignment_window_s: 0.5\n");

@@ -52,10 +52,14 @@ MonoFigures figures(const OfflineRunResult& run, const Trajectory& est, const ch
   return f;
 }
 
-OfflineRunResult room_mav(bool with_mapper, Trajectory* final_estimate) {
+// `drift_sigma`: the alignments' allowance for drifting vision attitudes (rad/s; the default's
+// unless set).
+OfflineRunResult room_mav(bool with_mapper, Trajectory* final_estimate,
+                          std::optional<double> drift_sigma = std::nullopt) {
   sim::Scenario scenario = sim::load_scenario(HS_SOURCE_DIR "/config/sim/room_mav.yaml");
   scenario.duration_s = 40.0;
-  const TrackerOptions options = mono_options(scenario.camera.calib);
+  TrackerOptions options = mono_options(scenario.camera.calib);
+  if (drift_sigma) options.mono.alignment.vision_rotation_drift_sigma = *drift_sigma;
   Mapper mapper(options.calib, reproducible(MapperOptions{}));
   MapperRunStats stats;
   OfflineRunOptions run_options;
@@ -103,31 +107,44 @@ TEST(MonoAccuracy, RoomMavFromCam0WithTheMapperWithinFiveCentimetresAndTwoPercen
 }
 
 // The tracker alone has no bundle adjustment: its map drifts like a visual odometry, and only
-// the IMU's checks of the map's scale hold that (room_mav seeds 1-3: ATE 14.1 / 3.8 / 7.3 cm,
-// scale within 1.2-4.3%). A bound against regressions, not the target (the mapper's).
+// the IMU's checks of the map's scale hold that. Since the alignments allow for the attitude
+// drift of the vision (vision_rotation_drift_sigma), the start's scale is right within about 3%
+// and the checks are never sure enough to correct it (seeds 1-3: ATE 9.4 / 3.9 / 2.6 cm, Sim(3)
+// scale error 3.1 / 1.1 / 0.3%; before: 14.1 / 3.8 / 7.3 cm). A bound against regressions, not the
+// issue's target (the mapper's).
 TEST(MonoAccuracy, RoomMavFromCam0TheTrackerAloneHoldsTheScale) {
   Trajectory estimate;
   const OfflineRunResult run = room_mav(false, &estimate);
   const MonoFigures f = figures(run, estimate, "room_mav mono, tracker alone");
   expect_started_in_flight_and_never_lost(run, f);
+  EXPECT_LE(f.ate_m, 0.12);
+  EXPECT_LE(std::abs(f.scale - 1.0), 0.04);
+}
+
+// Without that allowance (as before it) the start is worse and the checks, surer, do rescale the
+// map, which holds the scale within 5% (seed 1: ATE 14.1 cm, Sim(3) scale 0.957).
+TEST(MonoAccuracy, RoomMavFromCam0TheScaleChecksRescaleTheMap) {
+  Trajectory estimate;
+  const OfflineRunResult run = room_mav(false, &estimate, 0.0);
+  const MonoFigures f = figures(run, estimate, "room_mav mono, tracker alone, no drift allowance");
+  expect_started_in_flight_and_never_lost(run, f);
   EXPECT_GT(run.counters.scale_corrections, 0);
-  EXPECT_LE(f.ate_m, 0.16);
   EXPECT_LE(std::abs(f.scale - 1.0), 0.05);
 }
 
-// The real flying frames of V1_01 (left camera, real IMU), the tracker alone: started within
-// the first 60 frames (frame 52) and within 5 cm (2.0 cm), the targets. Its 5% scale
-// target is not met yet: the 2.6 s window the IMU has before frame 60 gives a scale 14.6% off
-// (the Sim(3) figure printed; the mapper does no better on 3 keyframes); this bounds it so that
-// it cannot get worse unnoticed.
-TEST(MonoAccuracy, RealV1_01FlightInitialisesWithinSixtyFramesAndTracksWithinFiveCentimetres) {
+// The real flying frames of V1_01 (left camera, real IMU), the tracker alone: the targets,
+// started within the first 60 frames (frame 52), within 5 cm (0.7 cm) and its scale within 5%
+// (Sim(3) 0.963). The mono odometry's attitudes drift 0.75 deg/s in pitch over the start's 2.6 s
+// against the gyro and ground truth; taken for gyro bias they tilted gravity and made the scale
+// 14.6% off until the alignment allowed for it.
+TEST(MonoAccuracy, RealV1_01FlightStartsWithinSixtyFramesWithinFiveCentimetresAndFivePercentScale) {
   const std::optional<OfflineRunResult> real = real_cam0_run("V1_01_flight_cam0");
   if (!real) GTEST_SKIP() << "V1_01_flight_cam0 absent (real EuRoC data is only in CI)";
   const OfflineRunResult& run = *real;
   const MonoFigures f = figures(run, run.estimate(), "V1_01 flight mono, tracker alone");
   ASSERT_LT(f.first_tracked, 60u) << "not initialised within 60 frames: " << f.last_wait;
   EXPECT_LE(f.ate_m, 0.05);
-  EXPECT_LE(std::abs(f.scale - 1.0), 0.16);
+  EXPECT_LE(std::abs(f.scale - 1.0), 0.05);
 }
 
 // The real static frames of V1_01, cam0 only: nothing moves, so no start however long.
