@@ -204,11 +204,18 @@ struct GyroDrift {
   double sigma = 0.0;                                 // prior on the total (rad/s)
 };
 
+// The preintegrated deltas at the gyro bias corrected by `drift` (first order: the corrections
+// are small, and re-integrating at each step cost the tracker 10 ms per alignment).
+ImuDelta drift_corrected(const ImuPreintegration& pim, const GyroDrift* drift) {
+  return drift ? pim.corrected(drift->applied, Eigen::Vector3d::Zero()) : pim.delta();
+}
+
 // A_0 = 0, A_{i+1} = dR_i^T A_i + dR_i/dbg: the chain's Jacobian in each pose's body frame.
-std::vector<Eigen::Matrix3d> chain_jacobians(const std::vector<ImuPreintegration>& pims) {
+std::vector<Eigen::Matrix3d> chain_jacobians(const std::vector<ImuPreintegration>& pims,
+                                             const GyroDrift& drift) {
   std::vector<Eigen::Matrix3d> A{Eigen::Matrix3d::Zero()};
   for (const ImuPreintegration& pim : pims)
-    A.push_back(pim.delta().R.transpose() * A.back() + pim.dR_dbg());
+    A.push_back(drift_corrected(pim, &drift).R.transpose() * A.back() + pim.dR_dbg());
   return A;
 }
 
@@ -264,7 +271,7 @@ TranslationalSystem build_translational(const PositionPrior& prior,
   }
   for (int k = 0; k + 1 < n; ++k) {
     const ImuPreintegration& pim = pims[k];
-    const ImuDelta& d = pim.delta();
+    const ImuDelta d = drift_corrected(pim, drift);
     const double dt = pim.dt_s();
     const Eigen::Matrix3d Rt = R_w_b[k].transpose();
     const int row = 3 * n + 6 * k;
@@ -326,12 +333,12 @@ struct SphereSolution {
 
 // Gauss-Newton on the gravity direction; positions, velocities and accel bias enter linearly
 // and are re-solved with it. Returns the solution at the final direction (tilt update ~0).
-SphereSolution refine_on_sphere(const PositionPrior& prior,
-                                const std::vector<Eigen::Matrix3d>& R_w_b,
+// With `drift`, the gyro bias correction is a Gauss-Newton unknown too: each step moves the
+// attitudes along the chain.
+SphereSolution refine_on_sphere(const PositionPrior& prior, std::vector<Eigen::Matrix3d>& R_w_b,
                                 const std::vector<ImuPreintegration>& pims,
                                 const Eigen::Vector3d& dir0, bool with_accel_bias,
-                                const ViAlignmentOptions& options,
-                                const GyroDrift* drift = nullptr) {
+                                const ViAlignmentOptions& options, GyroDrift* drift = nullptr) {
   const double G = options.gravity_magnitude;
   SphereSolution out;
   out.dir = dir0.normalized();
@@ -339,12 +346,21 @@ SphereSolution refine_on_sphere(const PositionPrior& prior,
     const Eigen::Matrix<double, 3, 2> B = tangent_basis(out.dir);
     // g(theta) = G Exp(B theta) dir ~= G dir - G hat(dir) B theta.
     const Eigen::MatrixXd M = -G * so3::hat(out.dir) * B;
+    if (drift) drift->A = chain_jacobians(pims, *drift);
     out.system =
         build_translational(prior, R_w_b, pims, G * out.dir, M, with_accel_bias, options, drift);
     out.x = solve_least_squares(out.system.J, out.system.r);
     const Eigen::Vector2d theta = out.x.segment<2>(out.system.num_states);
-    if (it == options.gravity_iterations || theta.norm() < kConvergedStep) return out;
+    const Eigen::Vector3d d =
+        drift ? Eigen::Vector3d(out.x.segment<3>(out.system.drift_col)) : Eigen::Vector3d::Zero();
+    if (it == options.gravity_iterations ||
+        (theta.norm() < kConvergedStep && d.norm() < kConvergedStep))
+      return out;
     out.dir = (so3::exp(B * theta) * out.dir).normalized();
+    if (drift) {
+      for (size_t i = 0; i < R_w_b.size(); ++i) R_w_b[i] = R_w_b[i] * so3::exp(drift->A[i] * d);
+      drift->applied += d;
+    }
   }
 }
 
@@ -409,14 +425,15 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
   }
 
   // (3) Gravity on the sphere, then with the accel bias if the window separates the two.
-  SphereSolution sol = refine_on_sphere(prior, rot.R_w_b, pims, g_free, false, options);
+  std::vector<Eigen::Matrix3d> R_w_b = rot.R_w_b;
+  SphereSolution sol = refine_on_sphere(prior, R_w_b, pims, g_free, false, options);
   const int tilt_col = sol.system.num_states;
   if (options.estimate_accel_bias) {
     // What the window alone says (without the bias prior).
     ViAlignmentOptions data_only = options;
     data_only.accel_bias_prior_sigma = 0.0;
     const TranslationalSystem probe =
-        build_translational(prior, rot.R_w_b, pims, G * sol.dir,
+        build_translational(prior, R_w_b, pims, G * sol.dir,
                             -G * so3::hat(sol.dir) * tangent_basis(sol.dir), true, data_only);
     // Tilt and bias information, the tilt scaled to m/s^2 (G * theta) to compare the two.
     Eigen::MatrixXd info = keep_block(normal_matrix(probe.J), tilt_col, 5);
@@ -427,7 +444,7 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
     out.accel_bias_sigma = largest_sigma(keep_block(info, 2, 3));
     out.weak_excitation = !(out.accel_bias_sigma <= options.max_accel_bias_sigma);
     if (!out.weak_excitation || options.accel_bias_prior_sigma > 0.0) {
-      sol = refine_on_sphere(prior, rot.R_w_b, pims, sol.dir, true, options);
+      sol = refine_on_sphere(prior, R_w_b, pims, sol.dir, true, options);
       out.accel_bias_estimated = true;
       out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
     }
@@ -436,19 +453,7 @@ ViAlignmentResult align(const std::vector<TimedPose>& poses, const PositionPrior
     // (4) The gyro bias again, from the translational equations under a prior of the drift.
     GyroDrift drift;
     drift.sigma = options.vision_rotation_drift_sigma;
-    std::vector<Eigen::Matrix3d> R_w_b = rot.R_w_b;
-    ImuBias bias = pims.front().bias();
-    for (int it = 0; it < options.gravity_iterations; ++it) {
-      drift.A = chain_jacobians(pims);
-      sol =
-          refine_on_sphere(prior, R_w_b, pims, sol.dir, out.accel_bias_estimated, options, &drift);
-      const Eigen::Vector3d d = sol.x.segment<3>(sol.system.drift_col);
-      for (int i = 0; i < n; ++i) R_w_b[i] = R_w_b[i] * so3::exp(drift.A[i] * d);
-      drift.applied += d;
-      bias.gyro += d;
-      reintegrate_all(pims, bias);
-      if (d.norm() < kConvergedStep) break;
-    }
+    sol = refine_on_sphere(prior, R_w_b, pims, sol.dir, out.accel_bias_estimated, options, &drift);
     out.gyro_bias = rot.gyro_bias + drift.applied;
     if (out.accel_bias_estimated) out.accel_bias = start.accel + sol.x.segment<3>(tilt_col + 2);
   }
