@@ -65,7 +65,7 @@ struct MonoOptions {
   // scale error (room_mav: 0.1 m/s^2 made 10-20%; real V1_01 flight: Sim(3) scale error 22%
   // held, 14% with the prior). The vision's attitudes may drift 1 deg/s: a mono odometry's
   // pitch drifted 0.75 deg/s on the real V1_01 flight, and taken for gyro bias it made the
-  // scale 14.6% off there, 3.6% with the allowance.
+  // scale 14.6% off there, 3.7% with the allowance.
   ViAlignmentOptions alignment = [] {
     ViAlignmentOptions o;
     o.max_accel_bias_sigma = 0.05;
