@@ -48,7 +48,7 @@ struct ViAlignmentOptions {
   // which step (1) would take for gyro bias. The bias is then refined from the translational
   // equations too (the drift tilts gravity against the accelerometer), under this prior.
   double vision_rotation_drift_sigma = 0.0;
-  int gyro_bias_iterations = 5;
+  int gyro_bias_iterations = 10;  // Gauss-Newton steps, on first-order deltas included
   int gravity_iterations = 5;
   // The accel bias is estimated only when this is set and the largest marginal standard
   // deviation of its estimate (m/s^2) is at most max_accel_bias_sigma.
