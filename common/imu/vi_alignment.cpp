@@ -135,11 +135,12 @@ RotationSolution solve_rotations(const std::vector<TimedPose>& poses,
   for (const TimedPose& pose : poses) out.R_w_b.push_back(pose.T_w_b.linear());
   ImuBias bias = start;
   reintegrate_all(pims, bias);
-  // The bias moves from the deltas' linearisation point by dbg, and the deltas follow to first
-  // order (re-integrating at each step cost the tracker's mono scale check most of its 17 ms).
-  // Converged that way, they are re-integrated and the iterations go on until a step leaves the
+  // The deltas follow the bias to first order from their linearisation point (re-integrating at
+  // each step made the tracker's mono scale check 8.9 ms instead of 7.6 on room_mav). Converged
+  // that way, they are re-integrated and the iterations go on until a step leaves the
   // linearisation point where it was: the result is the exact one, whatever the start.
-  Eigen::Vector3d dbg = Eigen::Vector3d::Zero();
+  // (Validated input has at least 3 poses, so pims is not empty.)
+  const auto off_linearisation = [&] { return (bias.gyro - pims.front().bias().gyro).norm(); };
   double last_step = std::numeric_limits<double>::infinity();
   for (int it = 0;; ++it) {
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 * n + 3 * (n - 1), cols);
@@ -155,7 +156,7 @@ RotationSolution solve_rotations(const std::vector<TimedPose>& poses,
     for (int k = 0; k + 1 < n; ++k) {
       const ImuPreintegration& pim = pims[k];
       const Eigen::Matrix3d R_bi_bj = out.R_w_b[k].transpose() * out.R_w_b[k + 1];
-      const Eigen::Matrix3d dR = pim.corrected(dbg, Eigen::Vector3d::Zero()).R;
+      const Eigen::Matrix3d dR = pim.corrected(bias).R;
       const Eigen::Vector3d r0 = so3::log(Eigen::Matrix3d(dR.transpose() * R_bi_bj));
       const Eigen::Matrix3d Jinv = so3::right_jacobian_inverse(r0);
       const int row = 3 * n + 3 * k;
@@ -170,14 +171,13 @@ RotationSolution solve_rotations(const std::vector<TimedPose>& poses,
       whiten(cov, rows, r.segment<3>(row));
     }
     const bool converged = last_step < kConvergedStep;
-    if (converged && dbg.norm() > kConvergedStep) {
+    if (converged && off_linearisation() > kConvergedStep) {
       reintegrate_all(pims, bias);
-      dbg.setZero();
       last_step = std::numeric_limits<double>::infinity();
       continue;
     }
     if (it >= options.gyro_bias_iterations || converged) {
-      if (!dbg.isZero()) reintegrate_all(pims, bias);
+      if (off_linearisation() > 0.0) reintegrate_all(pims, bias);
       out.gyro_bias = bias.gyro;
       out.gyro_bias_sigma = largest_sigma(keep_block(normal_matrix(J), bg_col, 3));
       out.correction_rms = std::sqrt(correction_sq / n);
@@ -187,7 +187,6 @@ RotationSolution solve_rotations(const std::vector<TimedPose>& poses,
     const Eigen::VectorXd step = solve_least_squares(J, r);
     for (int i = 0; i < n; ++i) out.R_w_b[i] = out.R_w_b[i] * so3::exp(step.segment<3>(3 * i));
     bias.gyro += step.tail<3>();
-    dbg += step.tail<3>();
     last_step = step.norm();
   }
 }
