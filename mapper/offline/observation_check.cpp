@@ -1,0 +1,94 @@
+#include "mapper/offline/observation_check.h"
+
+#include <vector>
+
+namespace hs {
+
+namespace {
+
+struct Sighting {
+  Eigen::Isometry3d T_c_w;
+  const PinholeRadtan* camera;
+  int index;  // 0: cam0, 1: cam1
+  Eigen::Vector2d uv;
+};
+
+std::optional<Eigen::Vector2d> residual(const Sighting& s, const Eigen::Vector3d& p_w,
+                                        Eigen::Matrix<double, 2, 3>* J_w) {
+  const Eigen::Vector3d p_c = s.T_c_w * p_w;
+  if (!(p_c.z() > 1e-3)) return std::nullopt;
+  Eigen::Vector2d uv;
+  Eigen::Matrix<double, 2, 3> J_c;
+  s.camera->project(p_c, &uv, &J_c);
+  if (J_w) *J_w = J_c * s.T_c_w.linear();
+  return Eigen::Vector2d(s.uv - uv);
+}
+
+// Starts from the first stereo sighting's depth (the map's own position otherwise).
+Eigen::Vector3d triangulate(const std::vector<Sighting>& sightings, Eigen::Vector3d p_w,
+                            int iterations) {
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (const Sighting& s : sightings) {
+      Eigen::Matrix<double, 2, 3> J;
+      const std::optional<Eigen::Vector2d> r = residual(s, p_w, &J);
+      if (!r) continue;
+      H += J.transpose() * J;
+      b += J.transpose() * *r;
+    }
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(H);
+    if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-12) break;
+    p_w += ldlt.solve(b);
+  }
+  return p_w;
+}
+
+}  // namespace
+
+ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCalib& calib,
+                                    const KeyframePoseLookup& T_w_b,
+                                    const ObservationCheckOptions& options) {
+  ObservationCheck out;
+  std::vector<Sighting> sightings;
+  for (int64_t id : graph.point_ids()) {
+    const MapperPoint& p = *graph.point(id);
+    sightings.clear();
+    int keyframes = 0;
+    std::optional<Eigen::Vector3d> start;
+    for (const Observation& o : p.observations) {
+      const MapperKeyframe* kf = graph.keyframe(o.keyframe_id);
+      const std::optional<Eigen::Isometry3d> T = kf ? T_w_b(kf->state.t_ns) : std::nullopt;
+      if (!T) continue;
+      ++keyframes;
+      const MapperKeypoint& kp = kf->keypoints[static_cast<size_t>(o.keypoint)];
+      const Eigen::Isometry3d T_w_c0 = *T * calib.cam0.T_b_c;
+      sightings.push_back({T_w_c0.inverse(), &calib.cam0.intrinsics, 0, {kp.u, kp.v}});
+      if (kp.u_right < 0.f) continue;
+      sightings.push_back(
+          {(*T * calib.cam1.T_b_c).inverse(), &calib.cam1.intrinsics, 1, {kp.u_right, kp.v_right}});
+      if (!start && kp.depth > 0.f)
+        start =
+            T_w_c0 * (Eigen::Vector3d(
+                          calib.cam0.intrinsics.unproject_normalised({kp.u, kp.v}).homogeneous()) *
+                      static_cast<double>(kp.depth));
+    }
+    if (keyframes < options.min_keyframes) continue;
+    const Eigen::Vector3d p_w = triangulate(sightings, start.value_or(p.p_w), options.iterations);
+    ++out.points;
+    for (const Sighting& s : sightings) {
+      const std::optional<Eigen::Vector2d> r = residual(s, p_w, nullptr);
+      if (!r || r->norm() > options.max_residual_px) {
+        ++out.outliers;
+        continue;
+      }
+      ResidualStats& stats = out.camera[static_cast<size_t>(s.index)];
+      ++stats.count;
+      stats.sum += *r;
+      stats.sum_squared += r->squaredNorm();
+    }
+  }
+  return out;
+}
+
+}  // namespace hs

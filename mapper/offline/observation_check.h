@@ -1,0 +1,48 @@
+#pragma once
+// How well a set of keyframe poses explains the map's observations: each point seen by enough
+// keyframes is triangulated at those poses (Gauss-Newton on its reprojection error) and its
+// observations' residuals are summed per camera. At the ground-truth poses of a simulated run
+// this checks the front end's measurements: unbiased, and explained by the truth as well as by
+// the estimate (a systematic error, e.g. a half-pixel convention, shows as a mean or as a
+// truth that fits worse than the estimate).
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "common/calib/camera_calib.h"
+#include "mapper/keyframe_graph.h"
+
+namespace hs {
+
+struct ResidualStats {
+  int64_t count = 0;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();  // pixels
+  double sum_squared = 0.0;                       // pixels^2, over both axes
+
+  Eigen::Vector2d mean() const { return count ? Eigen::Vector2d(sum / count) : sum; }
+  double rms() const { return count ? std::sqrt(sum_squared / count) : 0.0; }  // of the 2D norm
+};
+
+struct ObservationCheckOptions {
+  int min_keyframes = 3;         // points seen by fewer are skipped
+  double max_residual_px = 3.0;  // larger residuals are outliers: counted, not summed
+  int iterations = 10;           // Gauss-Newton steps per point
+};
+
+struct ObservationCheck {
+  std::array<ResidualStats, 2> camera;  // cam0, cam1 (stereo keypoints' right pixel)
+  int points = 0;                       // triangulated
+  int64_t outliers = 0;
+};
+
+// Body pose of a keyframe (by its time); nullopt skips the keyframe.
+using KeyframePoseLookup = std::function<std::optional<Eigen::Isometry3d>(int64_t t_ns)>;
+
+ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCalib& calib,
+                                    const KeyframePoseLookup& T_w_b,
+                                    const ObservationCheckOptions& options = {});
+
+}  // namespace hs
