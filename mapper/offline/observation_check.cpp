@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "common/geometry/triangulation.h"
+
 namespace hs {
 
 namespace {
@@ -13,35 +15,10 @@ struct Sighting {
   Eigen::Vector2d uv;
 };
 
-std::optional<Eigen::Vector2d> residual(const Sighting& s, const Eigen::Vector3d& p_w,
-                                        Eigen::Matrix<double, 2, 3>* J_w) {
+std::optional<Eigen::Vector2d> residual(const Sighting& s, const Eigen::Vector3d& p_w) {
   const Eigen::Vector3d p_c = s.T_c_w * p_w;
   if (!(p_c.z() > 1e-3)) return std::nullopt;
-  Eigen::Vector2d uv;
-  Eigen::Matrix<double, 2, 3> J_c;
-  s.camera->project(p_c, &uv, &J_c);
-  if (J_w) *J_w = J_c * s.T_c_w.linear();
-  return Eigen::Vector2d(s.uv - uv);
-}
-
-// Starts from the first stereo sighting's depth (the map's own position otherwise).
-Eigen::Vector3d triangulate(const std::vector<Sighting>& sightings, Eigen::Vector3d p_w,
-                            int iterations) {
-  for (int it = 0; it < iterations; ++it) {
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    for (const Sighting& s : sightings) {
-      Eigen::Matrix<double, 2, 3> J;
-      const std::optional<Eigen::Vector2d> r = residual(s, p_w, &J);
-      if (!r) continue;
-      H += J.transpose() * J;
-      b += J.transpose() * *r;
-    }
-    const Eigen::LDLT<Eigen::Matrix3d> ldlt(H);
-    if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-12) break;
-    p_w += ldlt.solve(b);
-  }
-  return p_w;
+  return Eigen::Vector2d(s.uv - s.camera->project(p_c));
 }
 
 }  // namespace
@@ -51,9 +28,11 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
                                     const ObservationCheckOptions& options) {
   ObservationCheck out;
   std::vector<Sighting> sightings;
+  std::vector<PointView> views;
   for (int64_t id : graph.point_ids()) {
     const MapperPoint& p = *graph.point(id);
     sightings.clear();
+    views.clear();
     int keyframes = 0;
     std::optional<Eigen::Vector3d> start;
     for (const Observation& o : p.observations) {
@@ -74,10 +53,15 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
                       static_cast<double>(kp.depth));
     }
     if (keyframes < options.min_keyframes) continue;
-    const Eigen::Vector3d p_w = triangulate(sightings, start.value_or(p.p_w), options.iterations);
+    // From the first stereo sighting's depth (the map's own position without one).
+    for (const Sighting& s : sightings)
+      views.push_back({s.T_c_w, s.camera->unproject_normalised(s.uv)});
+    const std::optional<RefinedPoint> refined =
+        refine_point(start.value_or(p.p_w), views, options.iterations);
+    if (!refined) continue;
     ++out.points;
     for (const Sighting& s : sightings) {
-      const std::optional<Eigen::Vector2d> r = residual(s, p_w, nullptr);
+      const std::optional<Eigen::Vector2d> r = residual(s, refined->p_w);
       if (!r || r->norm() > options.max_residual_px) {
         ++out.outliers;
         continue;

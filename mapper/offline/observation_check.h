@@ -1,6 +1,6 @@
 #pragma once
 // How well a set of keyframe poses explains the map's observations: each point seen by enough
-// keyframes is triangulated at those poses (Gauss-Newton on its reprojection error) and its
+// keyframes is triangulated at those poses (common/geometry refine_point) and its
 // observations' residuals are summed per camera. At the ground-truth poses of a simulated run
 // this checks the front end's measurements: unbiased, and explained by the truth as well as by
 // the estimate (a systematic error, e.g. a half-pixel convention, shows as a mean or as a
@@ -34,7 +34,7 @@ struct ObservationCheckOptions {
 
 struct ObservationCheck {
   std::array<ResidualStats, 2> camera;  // cam0, cam1 (stereo keypoints' right pixel)
-  int points = 0;                       // triangulated
+  int points = 0;                       // triangulated (not singular, in front of every camera)
   int64_t outliers = 0;
 };
 
