@@ -107,4 +107,12 @@ MapperKeyframe keyframe_from_msg(const hsslam::keyframe_t& msg, const std::strin
   return kf;
 }
 
+RelocRequest reloc_request_from_msg(const hsslam::reloc_request_t& msg, const std::string& source) {
+  const std::string where = source + ": reloc_request_t seq " + std::to_string(msg.seq);
+  if (msg.next_map_id < 0 || msg.next_map_id == msg.frame.map_id)
+    throw InputError(where, "next_map_id " + std::to_string(msg.next_map_id) + " (map id " +
+                                std::to_string(msg.frame.map_id) + ")");
+  return {msg.seq, msg.next_map_id, keyframe_from_msg(msg.frame, where)};
+}
+
 }  // namespace hs

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "hsslam/keyframe_t.hpp"
+#include "hsslam/reloc_request_t.hpp"
 #include "mapper/mapper_keyframe.h"
 
 namespace hs {
@@ -15,5 +16,14 @@ namespace hs {
 // time, all but the last (the interpolation bracket) before t_ns. The IMU lower bound (the previous
 // keyframe's time) is not in the message: KeyframeGraph checks it when linking the chain.
 MapperKeyframe keyframe_from_msg(const hsslam::keyframe_t& msg, const std::string& source);
+
+// RELOC_REQUEST: the frame as keyframe_from_msg checks it, and next_map_id >= 0 and not the
+// frame's own map id.
+struct RelocRequest {
+  int64_t seq = 0;
+  int32_t next_map_id = 0;
+  MapperKeyframe frame;
+};
+RelocRequest reloc_request_from_msg(const hsslam::reloc_request_t& msg, const std::string& source);
 
 }  // namespace hs

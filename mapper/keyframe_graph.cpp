@@ -181,6 +181,15 @@ void KeyframeGraph::merge_world(int32_t from, int32_t into) {
     if (entry.second == from) entry.second = into;
 }
 
+std::optional<int32_t> KeyframeGraph::world_of_map(int32_t map_id) const {
+  const auto it = world_of_map_.find(map_id);
+  return it == world_of_map_.end() ? std::nullopt : std::optional<int32_t>(it->second);
+}
+
+bool KeyframeGraph::join_map(int32_t map_id, int32_t world) {
+  return world_of_map_.emplace(map_id, world).second;
+}
+
 const MapperKeyframe* KeyframeGraph::keyframe(int64_t id) const {
   const auto it = keyframes_.find(id);
   return it == keyframes_.end() ? nullptr : &it->second.kf;

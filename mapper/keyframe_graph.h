@@ -113,6 +113,11 @@ class KeyframeGraph {
 
   // The world (see above) of a keyframe's map id.
   int32_t world(int64_t keyframe_id) const;
+  // The world of a map id, if any keyframe of it has arrived (or it was joined to one).
+  std::optional<int32_t> world_of_map(int32_t map_id) const;
+  // A map id no keyframe has named yet joins `world` (a lost tracker relocalised in it, which
+  // continues in that map id). False when the map id is known already.
+  bool join_map(int32_t map_id, int32_t world);
   // The previous keyframe if an IMU factor may join the two: it is present, of the same
   // world, and `id` has IMU samples, none but the first before the previous keyframe's time.
   std::optional<int64_t> imu_predecessor(int64_t id) const;

@@ -48,6 +48,18 @@ double LoopDetector::neighbourhood_share(const KeyframeGraph& graph, const Mappe
   return *projected > 0 ? static_cast<double>(found.size()) / *projected : 0.0;
 }
 
+bool LoopDetector::neighbourhood_agrees(const KeyframeGraph& graph, const MapperKeyframe& query,
+                                        const MapperKeyframe& candidate,
+                                        const Eigen::Isometry3d& T_c_q, LoopQueryStats& st) const {
+  int projected = 0;
+  const double share = neighbourhood_share(graph, query, candidate, T_c_q, &projected);
+  st.message += "; its neighbourhood: " + std::to_string(static_cast<int>(share * 100)) + "% of " +
+                std::to_string(projected) + " points found";
+  if (share >= options_.min_neighbourhood_share) return true;
+  ++st.unconfirmed;
+  return false;
+}
+
 std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_t query,
                                               LoopQueryStats* stats, bool join_index) {
   LoopQueryStats local;
@@ -85,8 +97,13 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
     // was started in place (merge_in_run_*); a loaded map's frame is anywhere.
     const bool loaded = foreign_.count(c.id) > 0;
     const double drift_m = (loop.drift * q.state.p_w_b - q.state.p_w_b).norm();
-    const double max_m = options_.drift_base_m + options_.drift_per_m * loop.path_m;
-    const double max_rad = options_.drift_base_rad + options_.drift_rad_per_m * loop.path_m;
+    // A merge of a world started in place after a loss: bounded by the loss's IMU drift.
+    const bool in_run_merge = loop.merge && !loaded;
+    const double max_m = in_run_merge ? options_.merge_in_run_m
+                                      : options_.drift_base_m + options_.drift_per_m * loop.path_m;
+    const double max_rad = in_run_merge
+                               ? options_.merge_in_run_rad
+                               : options_.drift_base_rad + options_.drift_rad_per_m * loop.path_m;
     char why[200];
     std::snprintf(why, sizeof(why),
                   "keyframe %ld matches keyframe %ld (%d inliers) with a correction of %.2f m "
@@ -95,22 +112,12 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
                   rotation_rad(loop.drift) * 180 / M_PI, max_rad * 180 / M_PI,
                   tilt_rad(loop.drift.linear()) * 180 / M_PI, loop.path_m);
     st.message = why;
-    if ((!loaded && !loop.merge && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
-        (!loaded && loop.merge &&
-         (drift_m > options_.merge_in_run_m ||
-          rotation_rad(loop.drift) > options_.merge_in_run_rad)) ||
+    if ((!loaded && (drift_m > max_m || rotation_rad(loop.drift) > max_rad)) ||
         tilt_rad(loop.drift.linear()) > options_.max_tilt_rad) {
       ++st.implausible;
       continue;
     }
-    int projected = 0;
-    const double share = neighbourhood_share(graph, q, c, m.T_c_q, &projected);
-    st.message += "; its neighbourhood: " + std::to_string(static_cast<int>(share * 100)) +
-                  "% of " + std::to_string(projected) + " points found";
-    if (share < options_.min_neighbourhood_share) {
-      ++st.unconfirmed;
-      continue;
-    }
+    if (!neighbourhood_agrees(graph, q, c, m.T_c_q, st)) continue;
     found = loop;
     break;
   }
@@ -129,6 +136,50 @@ std::optional<LoopFound> LoopDetector::detect(const KeyframeGraph& graph, int64_
   if (!found || streak_length_ < options_.consistent) return std::nullopt;
   st.message = "loop: " + st.message;
   return found;
+}
+
+std::optional<PlaceFix> LoopDetector::relocalise(const KeyframeGraph& graph,
+                                                 const MapperKeyframe& frame,
+                                                 std::optional<int32_t> guess_world,
+                                                 LoopQueryStats* stats) const {
+  LoopQueryStats local;
+  LoopQueryStats& st = stats ? *stats : local;
+  st = {};
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PlaceCandidate> candidates = index_.query(
+      frame.descriptors, options_.candidates, [&](int64_t id) { return !graph.keyframe(id); });
+  st.candidates = static_cast<int>(candidates.size());
+  std::optional<PlaceFix> fix;
+  for (const PlaceCandidate& pc : candidates) {
+    const MapperKeyframe& c = *graph.keyframe(pc.keyframe_id);
+    const PlaceMatch m = verify_place(frame, c, calib_, options_.verify);
+    if (!m.ok) continue;
+    ++st.verified;
+    const Eigen::Isometry3d T_w_b = c.state.T_w_b() * m.T_c_q;
+    const Eigen::Isometry3d jump = T_w_b * frame.state.T_w_b().inverse();
+    const bool bounded = guess_world && graph.world(c.id) == *guess_world;
+    const double jump_m = (T_w_b.translation() - frame.state.p_w_b).norm();
+    char why[200];
+    std::snprintf(why, sizeof(why),
+                  "keyframe %ld (%d inliers) places the frame %.2f m / %.2f deg from the "
+                  "tracker's guess%s, tilt %.2f deg",
+                  static_cast<long>(c.id), m.inliers, jump_m, rotation_rad(jump) * 180 / M_PI,
+                  bounded ? "" : " (another map: not bounded)",
+                  tilt_rad(jump.linear()) * 180 / M_PI);
+    st.message = why;
+    if ((bounded &&
+         (jump_m > options_.merge_in_run_m || rotation_rad(jump) > options_.merge_in_run_rad)) ||
+        tilt_rad(jump.linear()) > options_.max_tilt_rad) {
+      ++st.implausible;
+      continue;
+    }
+    if (!neighbourhood_agrees(graph, frame, c, m.T_c_q, st)) continue;
+    fix = PlaceFix{c.id, T_w_b, m.inliers};
+    break;
+  }
+  st.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return fix;
 }
 
 }  // namespace hs

@@ -65,6 +65,13 @@ struct LoopFound {
   bool merge = false;
 };
 
+// Where the atlas places a lost tracker's frame.
+struct PlaceFix {
+  int64_t keyframe = -1;                                    // matched
+  Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();  // the frame's, in its world
+  int inliers = 0;
+};
+
 // What one query did (for counters and messages).
 struct LoopQueryStats {
   int candidates = 0;    // from the index
@@ -83,6 +90,14 @@ class LoopDetector {
   // unless told not to (localisation only: the map does not grow).
   std::optional<LoopFound> detect(const KeyframeGraph& graph, int64_t query, LoopQueryStats* stats,
                                   bool join_index = true);
+  // A lost tracker's frame, not in the graph: the index's best keyframes of any world verified
+  // as for a loop, the candidate's neighbourhood found in the frame, roll and pitch kept. A
+  // candidate in world `guess_world` (the one the tracker was lost in) must place the frame
+  // within merge_in_run_* of its pose, the tracker's IMU-carried guess: a look-alike of the
+  // place implies a jump of the structure's spacing. No streak: the tracker is waiting.
+  std::optional<PlaceFix> relocalise(const KeyframeGraph& graph, const MapperKeyframe& frame,
+                                     std::optional<int32_t> guess_world,
+                                     LoopQueryStats* stats) const;
   // A loaded map's keyframe joining the index without a query.
   void add(const KeyframeGraph& graph, int64_t id) {
     path_at(graph, id);
@@ -106,6 +121,10 @@ class LoopDetector {
   double neighbourhood_share(const KeyframeGraph& graph, const MapperKeyframe& query,
                              const MapperKeyframe& candidate, const Eigen::Isometry3d& T_c_q,
                              int* projected) const;
+  // Its share is at least min_neighbourhood_share (said in st.message, else counted unconfirmed).
+  bool neighbourhood_agrees(const KeyframeGraph& graph, const MapperKeyframe& query,
+                            const MapperKeyframe& candidate, const Eigen::Isometry3d& T_c_q,
+                            LoopQueryStats& st) const;
 
   struct WorldPath {
     double length_m = 0.0;

@@ -216,6 +216,36 @@ MapperStep Mapper::finish_full_ba(bool wait) {
   return step;
 }
 
+RelocAnswer Mapper::relocalise(const MapperKeyframe& frame, int64_t seq, int32_t next_map_id) {
+  ++counters_.reloc_requests;
+  RelocAnswer a;
+  a.seq = seq;
+  a.t_ns = frame.state.t_ns;
+  if (graph_.world_of_map(next_map_id)) {
+    a.message = "map id " + std::to_string(next_map_id) + " is in use: cannot continue in it";
+    return a;
+  }
+  LoopQueryStats st;
+  const std::optional<PlaceFix> fix =
+      loops_.relocalise(graph_, frame, graph_.world_of_map(frame.map_id), &st);
+  if (!fix) {
+    a.message = "not found in the atlas (" + std::to_string(st.candidates) + " candidates, " +
+                std::to_string(st.verified) + " verified" +
+                (st.message.empty() ? "" : ", last: " + st.message) + ")";
+    return a;
+  }
+  graph_.join_map(next_map_id, graph_.world(fix->keyframe));
+  ++counters_.relocalisations;
+  a.found = true;
+  a.map_id = next_map_id;
+  a.keyframe_id = fix->keyframe;
+  a.T_w_b = fix->T_w_b;
+  a.inliers = fix->inliers;
+  a.message = "found in the atlas: " + st.message + "; map id " + std::to_string(next_map_id) +
+              " continues keyframe " + std::to_string(fix->keyframe) + "'s map";
+  return a;
+}
+
 void Mapper::detect_loop(int64_t id, MapperStep& step) {
   LoopQueryStats stats;
   step.loop = loops_.detect(graph_, id, &stats, !options_.localisation_only);

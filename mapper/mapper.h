@@ -14,6 +14,7 @@
 
 #include "common/calib/camera_calib.h"
 #include "common/core/map_correction.h"
+#include "common/core/reloc_answer.h"
 #include "mapper/full_ba.h"
 #include "mapper/inertial_refinement.h"
 #include "mapper/keyframe_culling.h"
@@ -94,6 +95,8 @@ struct MapperCounters {
   int64_t full_bas_discarded = 0;   // a loop or merge came while it ran: started again
   int64_t points_fused = 0;         // points found to be another, merged
   int64_t fusion_observations = 0;  // free keypoints that found a map point
+  int64_t reloc_requests = 0;       // a lost tracker asked where it is
+  int64_t relocalisations = 0;      // ... and was placed in the atlas
 };
 
 struct MapperStep {
@@ -119,6 +122,11 @@ class Mapper {
   Mapper(const StereoCalib& calib, const MapperOptions& options);
 
   MapperStep add_keyframe(MapperKeyframe keyframe);
+  // A lost tracker's frame (its keypoints, stereo points and IMU-carried guess in map
+  // frame.map_id): where the atlas places it (LoopDetector::relocalise). When found, map id
+  // `next_map_id` joins the matched keyframe's world, so the keyframes the tracker then sends
+  // in it continue that world. The frame does not join the graph or the index.
+  RelocAnswer relocalise(const MapperKeyframe& frame, int64_t seq, int32_t next_map_id);
   // A full BA running in the background (see FullBaOptions)?
   bool full_ba_running() const { return full_ba_.has_value(); }
   // Applies a full BA that has finished (or waits for it when `wait`) and returns the world's

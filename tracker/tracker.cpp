@@ -285,7 +285,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     r.message = why + "; " + reloc.message;
     // A relocalisation that moves the estimate far from the IMU prediction is a stated jump.
     if (jump > 0.1) {
-      ++map_id_;
+      map_id_ = new_map_id();
       r.message +=
           "; pose jumped " + std::to_string(jump) + " m: map id now " + std::to_string(map_id_);
     }
@@ -297,14 +297,35 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     return r;
   }
 
-  // Lost: the IMU carries the state; after a while a new local map starts in place.
+  // Lost: the IMU carries the state; after a while a new local map starts in place, or where
+  // the mapper's atlas places the frame.
   ++counters_.lost_frames;
-  if (lost_since_ns_ < 0) lost_since_ns_ = frame.t_ns;
+  if (lost_since_ns_ < 0) {
+    lost_since_ns_ = frame.t_ns;
+    atlas_request_.reset();
+    atlas_fix_.reset();
+    atlas_asked_since_ns_ = -1;
+  }
   state_ = TrackState::kLost;
   r.method = TrackMethod::kNone;
   r.message = why + "; relocalisation failed: " + reloc.message;
+  if (atlas_fix_ && frame.stereo()) {
+    const Eigen::Isometry3d& C = atlas_fix_->correction;
+    NavState nav = predicted;
+    nav.set_T_w_b(C * predicted.T_w_b());
+    nav.v_w = C.linear() * predicted.v_w;
+    r.message += "; " + atlas_fix_->message;
+    start_map_in_place(frame, pyr, nav, r, atlas_fix_->map_id);
+    timer.stage("reinitialise");
+    if (state_ != TrackState::kLost) {
+      ++counters_.atlas_relocalisations;
+      atlas_fix_.reset();
+      return r;
+    }
+  }
   if (frame.t_ns - lost_since_ns_ >= options_.reinit_after_lost_ns && frame.stereo()) {
-    start_map_in_place(frame, pyr, predicted, r);
+    const bool waiting = ask_atlas(frame, pyr, features, predicted, r);
+    if (!waiting) start_map_in_place(frame, pyr, predicted, r);
     timer.stage("reinitialise");
     if (state_ != TrackState::kLost) return r;
   } else if (frame.t_ns - lost_since_ns_ >= options_.reinit_after_lost_ns && !options_.stereo) {
@@ -852,13 +873,23 @@ void Tracker::restart_mono(FrameResult& r) {
   bootstrap_.reset();
   scale_window_.clear();
   map_.clear();
-  ++map_id_;
+  map_id_ = new_map_id();
   ++counters_.reinitialisations;
   r.message += "; a mono map restarts from two views: map id now " + std::to_string(map_id_);
 }
 
+bool Tracker::loss_bridged(int64_t t_ns, const NavState& nav) const {
+  const std::shared_ptr<Keyframe> last_kf = map_.latest_keyframe();
+  if (!last_kf || t_ns - last_tracked_t_ns_ > options_.continue_map_within_ns) return false;
+  ImuBias bias;
+  bias.gyro = nav.gyro_bias;
+  bias.accel = nav.accel_bias;
+  return imu_usable(preintegrate(imu_.window(last_kf->state.t_ns, t_ns), last_kf->state.t_ns, t_ns,
+                                 bias, options_.imu));
+}
+
 void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr,
-                                 const NavState& nav, FrameResult& r) {
+                                 const NavState& nav, FrameResult& r, int32_t atlas_map_id) {
   LocalMap trial_map = map_;
   trial_map.retire_window();
   KeyframeBuildStats stats;
@@ -876,15 +907,9 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
   // state, pulled the mapper's new keyframes 8 cm / 1.3 deg off the tracker's dead reckoning
   // (blackout scenario: ATE 1.17 cm instead of 0.75). After a longer loss, or across an IMU
   // gap, the start has no link to the old map: a new epoch.
-  const std::shared_ptr<Keyframe> last_kf = first ? nullptr : map_.latest_keyframe();
-  bool continues = false;
-  if (last_kf && frame.t_ns - last_tracked_t_ns_ <= options_.continue_map_within_ns) {
-    ImuBias bias;
-    bias.gyro = nav.gyro_bias;
-    bias.accel = nav.accel_bias;
-    continues = imu_usable(preintegrate(imu_.window(last_kf->state.t_ns, frame.t_ns),
-                                        last_kf->state.t_ns, frame.t_ns, bias, options_.imu));
-  }
+  // Placed by the atlas: the map id it named, which the mapper joined to the place's world.
+  const bool atlas = atlas_map_id >= 0;
+  const bool continues = !first && !atlas && loss_bridged(frame.t_ns, nav);
   map_ = std::move(trial_map);
   map_.add_keyframe(kf);
   ++counters_.keyframes;
@@ -893,11 +918,13 @@ void Tracker::start_map_in_place(const StereoFrame& frame, const ImagePyramid& p
     if (continues)
       ++counters_.maps_continued;
     else
-      ++map_id_;
+      map_id_ = atlas ? atlas_map_id : new_map_id();
   }
   begin_local_map(pyr, nav, kf, r);
   r.message += (r.message.empty() ? "" : "; ") +
-               std::string(first ? "map initialised" : "new local map started in place") +
+               std::string(first   ? "map initialised"
+                           : atlas ? "new local map started where the atlas placed the frame"
+                                   : "new local map started in place") +
                " with " + std::to_string(stats.new_points) + " stereo points" +
                (first       ? ""
                 : continues ? ": map id " + std::to_string(map_id_) +

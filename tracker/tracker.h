@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/core/map_correction.h"
+#include "common/core/reloc_answer.h"
 #include "common/dataset/stereo_frame.h"
 #include "common/imu/vi_alignment.h"
 #include "tracker/direct_align.h"
@@ -41,6 +42,9 @@ struct TrackerCounters {
   int64_t frames_without_imu = 0;        // IMU gap or IMU behind: tracked on vision alone
   int64_t reinitialisations = 0;         // local maps started in place after a loss
   int64_t maps_continued = 0;            // ... of them continuing the map (short loss, IMU bridged)
+  int64_t atlas_requests = 0;            // lost frames sent to the mapper's atlas
+  int64_t atlas_relocalisations = 0;     // ... placed by it: a local map started there
+  int64_t atlas_answers_ignored = 0;     // not for the pending request, or tracking resumed
   int64_t scale_corrections = 0;         // mono: the map rescaled by the IMU's scale estimate
   int64_t corrections_applied = 0;       // mapper corrections (MAP_UPDATE)
   int64_t corrections_ignored = 0;       // for another map id, or no keyframe the tracker still has
@@ -69,12 +73,18 @@ class Tracker {
   // Applies a mapper correction to the local map (keyframe states, point positions, removed
   // points) and moves the current state with the newest corrected keyframe the tracker has.
   CorrectionResult apply(const MapCorrection& correction);
+  // The mapper's answer to the pending atlas request (FrameResult::atlas_query): when found,
+  // the next lost frame starts a local map at the place the atlas gives, carried forward by the
+  // IMU, in the answer's map id. Returns what it did, for the status message.
+  std::string apply(const RelocAnswer& answer);
   // A mapper consumes the keyframes: they carry a stereo view of every tracked point.
   // A mono map's scale is then the mapper's (its visual-inertial bundle adjustment), not rescaled
   // here as well.
-  void set_mapper_present() {
+  // `atlas`: it answers relocalisation requests (FrameResult::atlas_query).
+  void set_mapper_present(bool atlas = true) {
     builder_.set_stereo_for_tracked(true);
     mapper_present_ = true;
+    atlas_present_ = atlas;
   }
 
   const TrackerCounters& counters() const { return counters_; }
@@ -145,8 +155,17 @@ class Tracker {
               const OrbFeatures* features, FrameResult& result, StageTimer& timer);
   void remember_keyframe_view(int64_t t_ns, const Eigen::Isometry3d& T_w_c,
                               const std::vector<TrackedObservation>& tracked);
+  // `atlas_map_id` >= 0: the atlas placed the frame; the local map continues that map id.
   void start_map_in_place(const StereoFrame& frame, const ImagePyramid& pyr, const NavState& nav,
-                          FrameResult& result);
+                          FrameResult& result, int32_t atlas_map_id = -1);
+  // The IMU carried the pose over the loss since the last tracked frame, without a gap, and
+  // not for longer than continue_map_within_ns: a new local map continues the map.
+  bool loss_bridged(int64_t t_ns, const NavState& nav) const;
+  // Lost beyond what the IMU bridges, with a mapper: sends (or keeps) a request to its atlas.
+  // True while the tracker should wait for the answer rather than start a new map.
+  bool ask_atlas(const StereoFrame& frame, const ImagePyramid& pyr, const OrbFeatures& features,
+                 const NavState& predicted, FrameResult& result);
+  int32_t new_map_id() { return ++last_map_id_; }
   // Tracking resumes from `kf`, the first keyframe of a new local map (already in map_).
   void begin_local_map(const ImagePyramid& pyr, const NavState& nav,
                        const std::shared_ptr<Keyframe>& kf, FrameResult& result);
@@ -162,6 +181,23 @@ class Tracker {
 
   TrackState state_ = TrackState::kInitialising;
   int32_t map_id_ = 0;
+  int32_t last_map_id_ = 0;  // map ids are never reused (one may be promised to the atlas)
+  struct AtlasRequest {
+    int64_t seq = 0;
+    int64_t t_ns = 0;
+    int32_t next_map_id = 0;
+    Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();  // the guess sent
+  };
+  std::optional<AtlasRequest> atlas_request_;  // pending
+  int64_t atlas_asked_since_ns_ = -1;          // the loss's first request
+  int32_t atlas_map_id_ = 0;                   // the map id its requests offer
+  int64_t next_atlas_seq_ = 0;
+  struct AtlasFix {
+    Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();  // guess -> the atlas' place
+    int32_t map_id = 0;
+    std::string message;
+  };
+  std::optional<AtlasFix> atlas_fix_;
   std::optional<LastFrame> last_;
   int64_t last_keyframe_t_ns_ = 0;
   Eigen::Isometry3d last_keyframe_T_w_c_ = Eigen::Isometry3d::Identity();
@@ -175,6 +211,7 @@ class Tracker {
   std::vector<TimedPose> scale_window_;
   int64_t last_scale_check_ns_ = 0;
   bool mapper_present_ = false;
+  bool atlas_present_ = false;
   cv::Mat init_previous_image_;  // while initialising: to tell a static start from a moving one
   MonoInitialiser mono_init_;
 };

@@ -76,7 +76,7 @@ CorrectionResult Tracker::apply(const MapCorrection& c) {
   out.shift_rad = Eigen::AngleAxisd(delta.linear()).angle();
   if (out.shift_m > options_.corrections.max_silent_translation_m ||
       out.shift_rad > options_.corrections.max_silent_rotation_rad) {
-    ++map_id_;
+    map_id_ = new_map_id();
     ++counters_.correction_jumps;
     out.message = "map correction " + std::to_string(c.seq) + " moved the pose " +
                   std::to_string(out.shift_m) + " m / " +

@@ -97,6 +97,7 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("reloc_min_inliers", o.reloc_min_inliers);
     s.read_seconds("reinit_after_lost_s", o.reinit_after_lost_ns);
     s.read_seconds("continue_map_within_s", o.continue_map_within_ns);
+    s.read_seconds("atlas_wait_s", o.atlas_wait_ns);
     s.read_seconds("max_camera_imu_offset_s", o.max_camera_imu_offset_ns);
     s.read_seconds("max_interpolated_imu_gap_s", o.max_interpolated_imu_gap_ns);
     s.read_seconds("vi_alignment_window_s", o.vi_alignment_window_ns);

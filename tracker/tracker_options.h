@@ -111,6 +111,11 @@ struct TrackerOptions {
   // tracking was lost for at most this long and the IMU has no gap since the last keyframe (the
   // IMU buffer keeps 5 s). As ORB-SLAM3's "recently lost" window.
   int64_t continue_map_within_ns = 3'000'000'000;
+  // A loss the IMU cannot bridge, with a mapper present: the lost frame is sent to the mapper's
+  // atlas (RELOC_REQUEST), and a new map starts in place only when no answer placed it within
+  // this long of the first request (0: never asks). Found, the tracker continues in the
+  // atlas map the answer names.
+  int64_t atlas_wait_ns = 500'000'000;
   int64_t max_camera_imu_offset_ns = 200'000'000;  // frame vs newest IMU sample
   int64_t static_init_window_ns = 1'000'000'000;
   // Moving start: visual tracking this long before vision and IMU are aligned.

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,16 @@
 namespace hs {
 
 struct Keyframe;
+class LocalMap;
+
+// A lost frame for the mapper's atlas (RELOC_REQUEST): its keypoints and stereo points, placed
+// at the tracker's IMU-carried guess in the map it was lost in.
+struct AtlasQuery {
+  int64_t seq = 0;
+  int32_t next_map_id = 0;  // the tracker continues in this map id if the atlas places it
+  std::shared_ptr<const Keyframe> frame;
+  std::shared_ptr<const LocalMap> points;  // the frame's stereo points (ids of their own)
+};
 
 // Values match odometry_t's state constants.
 enum class TrackState { kInitialising = 0, kTracking = 1, kLost = 2, kRelocalised = 3 };
@@ -48,6 +59,7 @@ struct FrameResult {
   bool is_keyframe = false;
   // The new keyframe, when is_keyframe and the state is known (not while initialising).
   std::shared_ptr<const Keyframe> keyframe;
+  std::optional<AtlasQuery> atlas_query;  // lost: ask the mapper's atlas where this frame is
   int tracked_points = 0;
   std::vector<FrameFeature> features;  // tracked_points of them, when tracked
   std::vector<std::pair<std::string, float>> stage_ms;

@@ -8,7 +8,7 @@ namespace hs {
 namespace {
 
 using Field = std::pair<const char*, std::string ChannelNames::*>;
-constexpr std::array<Field, 11> kFields = {{
+constexpr std::array<Field, 13> kFields = {{
     {"CAM_STEREO", &ChannelNames::cam_stereo},
     {"IMU", &ChannelNames::imu},
     {"TRIGGER", &ChannelNames::trigger},
@@ -18,6 +18,8 @@ constexpr std::array<Field, 11> kFields = {{
     {"KEYFRAME", &ChannelNames::keyframe},
     {"MAP_UPDATE", &ChannelNames::map_update},
     {"MAP_COMMAND", &ChannelNames::map_command},
+    {"RELOC_REQUEST", &ChannelNames::reloc_request},
+    {"RELOC_ANSWER", &ChannelNames::reloc_answer},
     {"HEARTBEAT", &ChannelNames::heartbeat},
     {"GROUND_TRUTH", &ChannelNames::ground_truth},
 }};

@@ -17,6 +17,8 @@ struct ChannelNames {
   std::string keyframe = "KEYFRAME";
   std::string map_update = "MAP_UPDATE";
   std::string map_command = "MAP_COMMAND";
+  std::string reloc_request = "RELOC_REQUEST";
+  std::string reloc_answer = "RELOC_ANSWER";
   std::string heartbeat = "HEARTBEAT";
   std::string ground_truth = "GROUND_TRUTH";
 };

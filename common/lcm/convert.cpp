@@ -1,5 +1,6 @@
 #include "common/lcm/convert.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
@@ -306,6 +307,40 @@ MapCorrection map_correction_from_msg(const hsslam::map_update_t& msg, const std
   for (int64_t id : msg.removed_point_ids) check_id(id, "removed point");
   c.removed_points = msg.removed_point_ids;
   return c;
+}
+
+hsslam::reloc_answer_t reloc_answer_to_msg(const RelocAnswer& a) {
+  hsslam::reloc_answer_t msg{};
+  msg.t_ns = a.t_ns;
+  msg.seq = a.seq;
+  msg.found = a.found;
+  msg.map_id = a.map_id;
+  NavState x;
+  x.t_ns = a.t_ns;
+  x.q_w_b = Eigen::Quaterniond(a.T_w_b.linear());
+  x.p_w_b = a.T_w_b.translation();
+  msg.pose = keyframe_pose_to_msg(std::max<int64_t>(a.keyframe_id, 0), x);
+  msg.inliers = a.inliers;
+  msg.message = a.message;
+  return msg;
+}
+
+RelocAnswer reloc_answer_from_msg(const hsslam::reloc_answer_t& msg, const std::string& source) {
+  const std::string where = source + ": reloc_answer_t seq " + std::to_string(msg.seq);
+  RelocAnswer a;
+  a.seq = msg.seq;
+  a.t_ns = msg.t_ns;
+  a.found = msg.found;
+  a.message = msg.message;
+  if (!a.found) return a;
+  if (msg.map_id < 0) throw InputError(where, "map id " + std::to_string(msg.map_id));
+  if (msg.inliers < 0) throw InputError(where, "inliers " + std::to_string(msg.inliers));
+  const NavState x = keyframe_pose_from_msg(msg.pose, where + ": pose");
+  a.map_id = msg.map_id;
+  a.keyframe_id = msg.pose.id;
+  a.T_w_b = x.T_w_b();
+  a.inliers = msg.inliers;
+  return a;
 }
 
 }  // namespace hs

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/core/map_correction.h"
+#include "common/core/reloc_answer.h"
 #include "common/core/types.h"
 #include "common/dataset/stereo_frame.h"
 #include "hsslam/ground_truth_t.hpp"
@@ -13,6 +14,7 @@
 #include "hsslam/keyframe_pose_t.hpp"
 #include "hsslam/map_update_t.hpp"
 #include "hsslam/odometry_t.hpp"
+#include "hsslam/reloc_answer_t.hpp"
 #include "hsslam/stereo_frame_t.hpp"
 
 namespace hs {
@@ -53,5 +55,10 @@ hsslam::map_update_t map_update_to_msg(const MapCorrection& c);
 // match the arrays, keyframe poses as keyframe_pose_from_msg, finite point positions, no id
 // twice in a list, ids >= 0.
 MapCorrection map_correction_from_msg(const hsslam::map_update_t& msg, const std::string& source);
+
+// Velocity and biases of the pose are left zero (the tracker keeps its own).
+hsslam::reloc_answer_t reloc_answer_to_msg(const RelocAnswer& a);
+// Checks: a found answer's pose as keyframe_pose_from_msg and map_id >= 0, inliers >= 0.
+RelocAnswer reloc_answer_from_msg(const hsslam::reloc_answer_t& msg, const std::string& source);
 
 }  // namespace hs

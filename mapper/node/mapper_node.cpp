@@ -14,6 +14,8 @@
 #include "hsslam/keyframe_t.hpp"
 #include "hsslam/map_command_t.hpp"
 #include "hsslam/map_update_t.hpp"
+#include "hsslam/reloc_answer_t.hpp"
+#include "hsslam/reloc_request_t.hpp"
 #include "mapper/keyframe_from_msg.h"
 
 namespace hs {
@@ -26,12 +28,15 @@ MapperNode::MapperNode(lcm::LCM& lcm, const StereoCalib& calib, const MapperOpti
       lcm_.subscribeFunction(node_options_.channels.keyframe, &MapperNode::on_keyframe, this);
   command_subscription_ =
       lcm_.subscribeFunction(node_options_.channels.map_command, &MapperNode::on_command, this);
+  reloc_subscription_ = lcm_.subscribeFunction(node_options_.channels.reloc_request,
+                                               &MapperNode::on_reloc_request, this);
 }
 
 MapperNode::~MapperNode() {
   stop();
   lcm_.unsubscribe(subscription_);
   lcm_.unsubscribe(command_subscription_);
+  lcm_.unsubscribe(reloc_subscription_);
 }
 
 void MapperNode::load_map(const MapFile& map) {
@@ -137,6 +142,43 @@ void MapperNode::handle_command(const void* data, size_t size, const std::string
     publish_heartbeat(hsslam::heartbeat_t::OK);
 }
 
+void MapperNode::on_reloc_request(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                                  MapperNode* self) {
+  self->handle_reloc_request(rbuf->data, rbuf->data_size, channel);
+}
+
+void MapperNode::handle_reloc_request(const void* data, size_t size, const std::string& channel) {
+  std::optional<RelocRequest> request;
+  std::string error;
+  try {
+    request = reloc_request_from_msg(decode_message<hsslam::reloc_request_t>(data, size, channel),
+                                     channel);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.reloc_requests_received;
+    if (!request) {
+      ++stats_.bad_reloc_request_messages;
+      last_message_ = error;
+      return;
+    }
+    reloc_requests_.push_back(std::move(*request));
+  }
+  ready_.notify_one();
+}
+
+void MapperNode::answer(const RelocRequest& request) {
+  const RelocAnswer a = mapper_.relocalise(request.frame, request.seq, request.next_map_id);
+  const hsslam::reloc_answer_t msg = reloc_answer_to_msg(a);
+  lcm_.publish(node_options_.channels.reloc_answer, &msg);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++stats_.reloc_answers_published;
+  mapper_counters_ = mapper_.counters();
+  last_message_ = "reloc request " + std::to_string(a.seq) + ": " + a.message;
+}
+
 void MapperNode::save_map(int64_t seq, const std::string& path) {
   std::string message = "save request " + std::to_string(seq) + ": ";
   bool saved = false;
@@ -163,17 +205,23 @@ void MapperNode::run() {
   for (;;) {
     std::optional<MapperKeyframe> kf;
     std::optional<std::pair<int64_t, std::string>> save;
+    std::optional<RelocRequest> request;
     bool closing = false;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      const auto woken = [&] { return closed_ || !queue_.empty() || !save_requests_.empty(); };
+      const auto woken = [&] {
+        return closed_ || !queue_.empty() || !save_requests_.empty() || !reloc_requests_.empty();
+      };
       // A full BA running in the background lands as soon as it ends, keyframes or not (the
       // vehicle may be standing still).
       if (mapper_.full_ba_running())
         ready_.wait_for(lock, std::chrono::milliseconds(50), woken);
       else
         ready_.wait(lock, woken);
-      if (!save_requests_.empty()) {
+      if (!reloc_requests_.empty()) {
+        request = std::move(reloc_requests_.front());
+        reloc_requests_.pop_front();
+      } else if (!save_requests_.empty()) {
         save = std::move(save_requests_.front());
         save_requests_.pop_front();
       } else if (!queue_.empty()) {
@@ -182,6 +230,10 @@ void MapperNode::run() {
       } else {
         closing = closed_;
       }
+    }
+    if (request) {
+      answer(*request);
+      continue;
     }
     if (save) {
       save_map(save->first, save->second);
@@ -233,6 +285,10 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"updates_published", s.updates_published},
       {"commands_received", s.commands_received},
       {"bad_command_messages", s.bad_command_messages},
+      {"reloc_requests_received", s.reloc_requests_received},
+      {"bad_reloc_request_messages", s.bad_reloc_request_messages},
+      {"reloc_answers_published", s.reloc_answers_published},
+      {"relocalisations", m.relocalisations},
       {"maps_saved", s.maps_saved},
       {"map_save_failures", s.map_save_failures},
       {"max_backlog", static_cast<int64_t>(s.max_backlog)},

@@ -2,6 +2,8 @@
 // The mapper as an LCM component (the hs-mapper process). Subscribes to KEYFRAME (keyframe_t),
 // runs the Mapper on each keyframe in a worker thread and publishes MAP_UPDATE (map_update_t)
 // per keyframe and HEARTBEAT about once a period (backlog, counters). MAP_COMMAND (map_command_t)
+// RELOC_REQUEST (reloc_request_t, a lost tracker's frame) is answered on RELOC_ANSWER from the
+// atlas before the keyframes waiting (the tracker is waiting). MAP_COMMAND (map_command_t)
 // SAVE writes the map between two keyframes and answers at once with a HEARTBEAT whose message
 // says "save request <seq>: ..." (the file and its size, or why it failed).
 //
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "common/config/channels.h"
+#include "mapper/keyframe_from_msg.h"
 #include "mapper/mapper.h"
 
 namespace hs {
@@ -37,6 +40,9 @@ struct MapperNodeStats {
   int64_t updates_published = 0;
   int64_t commands_received = 0;
   int64_t bad_command_messages = 0;  // undecodable, unknown command or no path: answered, dropped
+  int64_t reloc_requests_received = 0;
+  int64_t bad_reloc_request_messages = 0;
+  int64_t reloc_answers_published = 0;
   int64_t maps_saved = 0;
   int64_t map_save_failures = 0;
   size_t max_backlog = 0;   // keyframes waiting for the mapper, the most at any time
@@ -69,6 +75,11 @@ class MapperNode {
   static void on_command(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                          MapperNode* self);
   void handle_command(const void* data, size_t size, const std::string& channel);
+  static void on_reloc_request(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                               MapperNode* self);
+  void handle_reloc_request(const void* data, size_t size, const std::string& channel);
+  // Worker thread: where the atlas places a lost tracker's frame, published at once.
+  void answer(const RelocRequest& request);
   // Worker thread: a SAVE request between two keyframes; answered by a heartbeat.
   void save_map(int64_t seq, const std::string& path);
   void run();
@@ -81,6 +92,7 @@ class MapperNode {
   Mapper mapper_;  // worker thread only (counters read under mutex_ after each keyframe)
   lcm::Subscription* subscription_ = nullptr;
   lcm::Subscription* command_subscription_ = nullptr;
+  lcm::Subscription* reloc_subscription_ = nullptr;
   std::thread worker_;
   bool started_ = false;
   int64_t next_heartbeat_ns_ = 0;
@@ -89,6 +101,7 @@ class MapperNode {
   std::condition_variable ready_;
   std::deque<MapperKeyframe> queue_;
   std::deque<std::pair<int64_t, std::string>> save_requests_;  // (seq, path)
+  std::deque<RelocRequest> reloc_requests_;
   bool closed_ = false;
   MapperNodeStats stats_;
   MapperCounters mapper_counters_;

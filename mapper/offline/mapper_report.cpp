@@ -52,6 +52,13 @@ BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose)
   };
 }
 
+AtlasBackEnd in_process_atlas(Mapper& mapper) {
+  return [&mapper](const hsslam::reloc_request_t& msg) {
+    const RelocRequest q = reloc_request_from_msg(msg, "RELOC_REQUEST");
+    return mapper.relocalise(q.frame, q.seq, q.next_map_id);
+  };
+}
+
 void finish_back_end(Mapper& mapper, MapperRunStats& stats) {
   stats.add(mapper.finish_full_ba(true));
 }
@@ -125,7 +132,9 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << time_stats(stats.loop_query_ms).median << " ms, p95 " << time_stats(stats.loop_query_ms).p95
     << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB); maps merged "
     << counters.maps_merged << ", points fused " << counters.points_fused
-    << ", observations found again " << counters.fusion_observations << "\n";
+    << ", observations found again " << counters.fusion_observations
+    << "; lost frames placed by the atlas " << counters.relocalisations << " of "
+    << counters.reloc_requests << " asked\n";
   o << "full BA: " << counters.full_bas << " applied (" << counters.full_bas_discarded
     << " discarded), median " << time_stats(stats.full_ba_ms).median << " ms over "
     << mean(stats.full_ba_keyframes) << " keyframes, " << mean(stats.full_ba_points) << " points\n";

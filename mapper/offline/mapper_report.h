@@ -31,6 +31,8 @@ MapperOptions reproducible(MapperOptions options);
 // Feeds each KEYFRAME message to `mapper` (decoded and validated as hs-mapper would) and returns
 // its correction; both must outlive the back end. Mapper messages go to stderr when verbose.
 BackEnd in_process_back_end(Mapper& mapper, MapperRunStats& stats, bool verbose = false);
+// Answers each RELOC_REQUEST message from `mapper`'s atlas (decoded as hs-mapper would).
+AtlasBackEnd in_process_atlas(Mapper& mapper);
 
 // At the end of a run: applies the full BA still running, if one is (its correction reaches
 // no tracker: the final trajectory is on the mapper's keyframe poses).

@@ -305,6 +305,45 @@ TEST(ConvertMapUpdate, RoundTripAndChecks) {
   EXPECT_THAT(error(bad), HasSubstr("g_w[0] is not finite"));
 }
 
+TEST(ConvertRelocAnswer, RoundTripAndChecks) {
+  RelocAnswer a;
+  a.seq = 3;
+  a.t_ns = 456;
+  a.found = true;
+  a.map_id = 5;
+  a.keyframe_id = 42;
+  a.T_w_b = some_state().T_w_b();
+  a.inliers = 61;
+  a.message = "found";
+  const hsslam::reloc_answer_t msg = reloc_answer_to_msg(a);
+  const RelocAnswer back = reloc_answer_from_msg(msg, "RELOC_ANSWER");
+  EXPECT_EQ(back.seq, 3);
+  EXPECT_EQ(back.t_ns, 456);
+  EXPECT_TRUE(back.found);
+  EXPECT_EQ(back.map_id, 5);
+  EXPECT_EQ(back.keyframe_id, 42);
+  EXPECT_EQ(back.inliers, 61);
+  EXPECT_TRUE(back.T_w_b.isApprox(a.T_w_b, 1e-12));
+  EXPECT_EQ(back.message, "found");
+
+  const auto error = [](const hsslam::reloc_answer_t& m) {
+    return input_error_of([&] { reloc_answer_from_msg(m, "RELOC_ANSWER"); });
+  };
+  hsslam::reloc_answer_t bad = msg;
+  bad.pose.q_w_b[1] = 0.5;
+  EXPECT_THAT(error(bad), HasSubstr("RELOC_ANSWER: reloc_answer_t seq 3: pose"));
+  bad = msg;
+  bad.pose.p_w_b[0] = NAN;
+  EXPECT_THAT(error(bad), HasSubstr("p_w_b[0] is not finite"));
+  bad = msg;
+  bad.map_id = -1;
+  EXPECT_THAT(error(bad), HasSubstr("map id -1"));
+  // Not found: nothing else is read (a mapper without an atlas may leave the pose zero).
+  bad.found = false;
+  bad.pose.q_w_b[0] = 0.0;
+  EXPECT_FALSE(reloc_answer_from_msg(bad, "RELOC_ANSWER").found);
+}
+
 TEST(ConvertEncoding, Names) {
   EXPECT_EQ(parse_image_encoding("png"), ImageEncoding::kPng);
   EXPECT_EQ(parse_image_encoding("mono8"), ImageEncoding::kMono8);

@@ -125,5 +125,30 @@ TEST(KeyframeFromMsg, RejectsMalformedMessagesNamingChannelAndKeyframe) {
   }
 }
 
+// A lost tracker's frame: a keyframe of the map it was lost in, and the map id it offers.
+TEST(RelocRequestFromMsg, ChecksTheFrameAndTheOfferedMapId) {
+  hsslam::reloc_request_t msg{};
+  msg.seq = 7;
+  msg.next_map_id = 3;
+  msg.frame = keyframe_msg(0, -1, {1, 2});
+  const RelocRequest r = reloc_request_from_msg(msg, "RELOC_REQUEST");
+  EXPECT_EQ(r.seq, 7);
+  EXPECT_EQ(r.next_map_id, 3);
+  EXPECT_EQ(r.frame.keypoints.size(), msg.frame.keypoints.size());
+
+  msg.next_map_id = msg.frame.map_id;
+  try {
+    reloc_request_from_msg(msg, "RELOC_REQUEST");
+    ADD_FAILURE() << "accepted its own map id";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("RELOC_REQUEST: reloc_request_t seq 7: next_map_id"),
+              std::string::npos)
+        << e.what();
+  }
+  msg.next_map_id = 3;
+  msg.frame.num_keypoints += 1;  // the frame is checked as a keyframe
+  EXPECT_THROW(reloc_request_from_msg(msg, "RELOC_REQUEST"), InputError);
+}
+
 }  // namespace
 }  // namespace hs

@@ -33,6 +33,23 @@ Eigen::Isometry3d shift(double x_m) {
   return T;
 }
 
+// An atlas answer the tracker did not ask for (none pending: it is tracking) changes nothing.
+TEST_F(TrackerCorrection, AnAtlasAnswerNotAskedForIsIgnored) {
+  track_range(0, 40);
+  ASSERT_EQ(tracker_->state(), TrackState::kTracking);
+  RelocAnswer a;
+  a.seq = 0;
+  a.found = true;
+  a.map_id = 7;
+  a.T_w_b = shift(1.0);
+  EXPECT_NE(tracker_->apply(a).find("ignored: not the pending request"), std::string::npos);
+  EXPECT_EQ(tracker_->counters().atlas_answers_ignored, 1);
+  const FrameResult r = track_range(40, 41);
+  EXPECT_EQ(r.state, TrackState::kTracking);
+  EXPECT_EQ(r.map_id, 0) << r.message;
+  EXPECT_EQ(tracker_->counters().atlas_relocalisations, 0);
+}
+
 TEST_F(TrackerCorrection, IgnoredWhileInitialising) {
   track_range(0, 5);  // less than the 1 s of IMU the start needs
   ASSERT_EQ(tracker_->state(), TrackState::kInitialising);

@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
       mapper.emplace(options.calib, hs::reproducible(mapper_options));
       if (!load_map.empty()) mapper->load(hs::read_map_file(load_map));
       run_options.back_end = hs::in_process_back_end(*mapper, mapper_stats, verbose);
+      run_options.atlas = hs::in_process_atlas(*mapper);
     }
     const hs::OfflineRunResult result = hs::run_offline(options, source, run_options);
     std::filesystem::create_directories(out_dir);

@@ -27,6 +27,15 @@ void InputQueue::push_correction(MapCorrection correction) {
   ready_.notify_one();
 }
 
+void InputQueue::push_answer(RelocAnswer answer) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++depth_.corrections;
+    items_.emplace_back(std::move(answer));
+  }
+  ready_.notify_one();
+}
+
 bool InputQueue::push_frame(StereoFrame frame) {
   bool dropped = false;
   {

@@ -12,12 +12,13 @@
 #include <vector>
 
 #include "common/core/map_correction.h"
+#include "common/core/reloc_answer.h"
 #include "common/core/types.h"
 #include "common/dataset/stereo_frame.h"
 
 namespace hs {
 
-using NodeInput = std::variant<std::vector<ImuSample>, StereoFrame, MapCorrection>;
+using NodeInput = std::variant<std::vector<ImuSample>, StereoFrame, MapCorrection, RelocAnswer>;
 
 struct InputQueueDepth {
   size_t frames = 0;
@@ -31,6 +32,7 @@ class InputQueue {
 
   void push_imu(std::vector<ImuSample> samples);
   void push_correction(MapCorrection correction);
+  void push_answer(RelocAnswer answer);  // counted with the corrections
   // Returns whether the oldest waiting frame was dropped to make room.
   bool push_frame(StereoFrame frame);
   // Blocks for the next input; false once closed and drained.

@@ -28,6 +28,9 @@ std::vector<NamedCounter> tracker_counters(const TrackerCounters& t, const ImuBu
           {"relocalisations_rejected", t.relocalisations_rejected},
           {"reinitialisations", t.reinitialisations},
           {"maps_continued", t.maps_continued},
+          {"atlas_requests", t.atlas_requests},
+          {"atlas_relocalisations", t.atlas_relocalisations},
+          {"atlas_answers_ignored", t.atlas_answers_ignored},
           {"scale_corrections", t.scale_corrections},
           {"corrections_applied", t.corrections_applied},
           {"corrections_ignored", t.corrections_ignored},
@@ -116,6 +119,14 @@ hsslam::keyframe_t keyframe_msg(const Keyframe& kf, const LocalMap& map, int32_t
   msg.num_points = static_cast<int32_t>(msg.points.size());
   if (!kf.imu.empty()) msg.imu = imu_batch_to_msg(kf.imu, 0).samples;
   msg.num_imu = static_cast<int32_t>(msg.imu.size());
+  return msg;
+}
+
+hsslam::reloc_request_t reloc_request_msg(const AtlasQuery& q, int32_t map_id) {
+  hsslam::reloc_request_t msg{};
+  msg.seq = q.seq;
+  msg.next_map_id = q.next_map_id;
+  msg.frame = keyframe_msg(*q.frame, *q.points, map_id);
   return msg;
 }
 

@@ -7,6 +7,7 @@
 
 #include "hsslam/keyframe_t.hpp"
 #include "hsslam/odometry_t.hpp"
+#include "hsslam/reloc_request_t.hpp"
 #include "hsslam/tracker_status_t.hpp"
 #include "tracker/tracker.h"
 #include "tracker/tracker_types.h"
@@ -30,5 +31,8 @@ hsslam::tracker_status_t status_msg(const FrameResult& r, const std::vector<Name
 // keypoint whose point is no longer in the map is sent unassociated), and the IMU samples since
 // the previous keyframe.
 hsslam::keyframe_t keyframe_msg(const Keyframe& kf, const LocalMap& map, int32_t map_id);
+
+// RELOC_REQUEST: the lost frame as a keyframe of map `map_id` (the one the tracker was lost in).
+hsslam::reloc_request_t reloc_request_msg(const AtlasQuery& q, int32_t map_id);
 
 }  // namespace hs

@@ -8,6 +8,7 @@
 #include "common/lcm/process_loop.h"
 #include "hsslam/heartbeat_t.hpp"
 #include "hsslam/map_update_t.hpp"
+#include "hsslam/reloc_answer_t.hpp"
 
 namespace hs {
 namespace {
@@ -31,6 +32,8 @@ TrackerNode::TrackerNode(lcm::LCM& lcm, const TrackerOptions& options)
       lcm_.subscribeFunction(options_.channels.imu, &TrackerNode::on_imu, this));
   subscriptions_.push_back(
       lcm_.subscribeFunction(options_.channels.map_update, &TrackerNode::on_map_update, this));
+  subscriptions_.push_back(
+      lcm_.subscribeFunction(options_.channels.reloc_answer, &TrackerNode::on_reloc_answer, this));
 }
 
 TrackerNode::~TrackerNode() {
@@ -88,6 +91,8 @@ std::vector<NamedCounter> TrackerNode::node_counters(const NodeStats& s) const {
           {"imu_samples_received", s.imu_samples_received},
           {"tracker_errors", s.tracker_errors},
           {"map_updates_received", s.map_updates_received},
+          {"reloc_answers_received", s.reloc_answers_received},
+          {"bad_reloc_answer_messages", s.bad_reloc_answer_messages},
           {"bad_map_update_messages", s.bad_map_update_messages},
           {"map_updates_stale", s.map_updates_stale},
           {"map_updates_lost", s.map_updates_lost},
@@ -110,6 +115,11 @@ void TrackerNode::on_imu(const lcm::ReceiveBuffer* rbuf, const std::string& chan
 void TrackerNode::on_map_update(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                                 TrackerNode* self) {
   self->handle_map_update(rbuf->data, rbuf->data_size, channel);
+}
+
+void TrackerNode::on_reloc_answer(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                                  TrackerNode* self) {
+  self->handle_reloc_answer(rbuf->data, rbuf->data_size, channel);
 }
 
 void TrackerNode::bad_message(int64_t NodeStats::*counter, const std::string& what) {
@@ -174,6 +184,21 @@ void TrackerNode::handle_map_update(const void* data, size_t size, const std::st
   queue_.push_correction(std::move(c));
 }
 
+void TrackerNode::handle_reloc_answer(const void* data, size_t size, const std::string& channel) {
+  RelocAnswer a;
+  try {
+    a = reloc_answer_from_msg(decode_message<hsslam::reloc_answer_t>(data, size, channel), channel);
+  } catch (const std::exception& e) {
+    bad_message(&NodeStats::bad_reloc_answer_messages, e.what());
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++stats_.reloc_answers_received;
+  }
+  queue_.push_answer(std::move(a));  // the tracker matches it with its pending request
+}
+
 void TrackerNode::publish_pose_imu(const std::vector<ImuSample>& samples) {
   std::optional<PoseAnchor> anchor;
   {
@@ -209,6 +234,9 @@ void TrackerNode::run() {
     } else if (auto* correction = std::get_if<MapCorrection>(&input)) {
       tracker.set_mapper_present();  // a mapper is listening to KEYFRAME
       apply(tracker, *correction);
+    } else if (auto* answer = std::get_if<RelocAnswer>(&input)) {
+      const std::string note = tracker.apply(*answer);
+      correction_notes_ += (correction_notes_.empty() ? "" : "; ") + note;
     } else {
       track(tracker, std::get<StereoFrame>(input));
     }
@@ -232,6 +260,10 @@ void TrackerNode::track(Tracker& tracker, const StereoFrame& frame) {
   if (r.keyframe) {
     const hsslam::keyframe_t kf = keyframe_msg(*r.keyframe, tracker.map(), r.map_id);
     lcm_.publish(options_.channels.keyframe, &kf);
+  }
+  if (r.atlas_query) {
+    const hsslam::reloc_request_t request = reloc_request_msg(*r.atlas_query, r.map_id);
+    lcm_.publish(options_.channels.reloc_request, &request);
   }
   std::vector<NamedCounter> counters = tracker_counters(tracker.counters(), tracker.imu_counters());
   std::string message = r.message;
@@ -272,7 +304,7 @@ std::string TrackerNode::status_notes() {
     std::lock_guard<std::mutex> lock(mutex_);
     drops = stats_.frames_dropped;
     bad = stats_.bad_frame_messages + stats_.bad_imu_messages + stats_.bad_map_update_messages +
-          stats_.tracker_errors;
+          stats_.bad_reloc_answer_messages + stats_.tracker_errors;
     last_error = last_error_;
   }
   std::string notes = std::move(correction_notes_);

@@ -37,6 +37,8 @@ struct NodeStats {
   int64_t pose_imu_published = 0;
   int64_t keyframes_published = 0;
   int64_t map_updates_received = 0;
+  int64_t reloc_answers_received = 0;
+  int64_t bad_reloc_answer_messages = 0;
   int64_t bad_map_update_messages = 0;
   int64_t map_updates_stale = 0;  // seq not after the previous one (duplicate, reordered)
   int64_t map_updates_lost = 0;   // seq gaps (UDP multicast loses whole messages)
@@ -73,6 +75,9 @@ class TrackerNode {
   void handle_frame(const void* data, size_t size, const std::string& channel);
   void handle_imu(const void* data, size_t size, const std::string& channel);
   void handle_map_update(const void* data, size_t size, const std::string& channel);
+  static void on_reloc_answer(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                              TrackerNode* self);
+  void handle_reloc_answer(const void* data, size_t size, const std::string& channel);
   void bad_message(int64_t NodeStats::*counter, const std::string& what);
   void publish_pose_imu(const std::vector<ImuSample>& samples);
 

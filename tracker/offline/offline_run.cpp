@@ -81,7 +81,7 @@ Trajectory OfflineRunResult::ground_truth_trajectory() const {
 OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,
                              const OfflineRunOptions& run_options) {
   Tracker tracker(options);
-  if (run_options.back_end) tracker.set_mapper_present();
+  if (run_options.back_end) tracker.set_mapper_present(static_cast<bool>(run_options.atlas));
   OfflineRunResult out;
   DatasetEvent e;
   std::optional<int64_t> first_t_ns;
@@ -124,6 +124,10 @@ OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& s
           if (!applied.message.empty())
             rec.message += (rec.message.empty() ? "" : "; ") + applied.message;
         }
+      }
+      if (r.atlas_query && run_options.atlas) {
+        const RelocAnswer answer = run_options.atlas(reloc_request_msg(*r.atlas_query, r.map_id));
+        rec.message += (rec.message.empty() ? "" : "; ") + tracker.apply(answer);
       }
       if (run_options.verbose && !rec.message.empty())
         std::fprintf(stderr, "frame %lld [%s]: %s\n", static_cast<long long>(r.seq),

@@ -11,6 +11,7 @@
 #include "common/eval/evaluate.h"
 #include "common/sim/dataset_gen.h"
 #include "hsslam/keyframe_t.hpp"
+#include "hsslam/reloc_request_t.hpp"
 #include "tracker/tracker.h"
 
 namespace hs {
@@ -19,6 +20,9 @@ namespace hs {
 // KEYFRAME message the hs-tracker process would publish, and returns the corrections the
 // tracker applies before the next frame (the deterministic stand-in for MAP_UPDATE).
 using BackEnd = std::function<std::vector<MapCorrection>(const hsslam::keyframe_t&)>;
+// The back end's atlas (hs-run --with-mapper): answers a lost tracker's RELOC_REQUEST at once,
+// before the next frame (the deterministic stand-in for RELOC_ANSWER).
+using AtlasBackEnd = std::function<RelocAnswer(const hsslam::reloc_request_t&)>;
 
 // Yields events in sensor-time order; false at the end.
 using EventSource = std::function<bool(DatasetEvent&)>;
@@ -71,6 +75,7 @@ struct OfflineRunOptions {
   // starts mid-sequence (e.g. already moving); ground truth is kept.
   int64_t skip_ns = 0;
   BackEnd back_end;  // none: the tracker alone
+  AtlasBackEnd atlas;
 };
 
 OfflineRunResult run_offline(const TrackerOptions& options, const EventSource& source,

@@ -286,7 +286,8 @@ std::string write_run_outputs(const std::string& out_dir, const OfflineRunResult
   o << "frames " << result.frames.size() << " (tracked " << tracked << ", lost " << lost
     << "), keyframes " << c.keyframes << ", relocalisations " << c.relocalisations
     << " (rejected by the IMU gate " << c.relocalisations_rejected << "), local maps restarted "
-    << c.reinitialisations << " (" << c.maps_continued << " continuing the map)"
+    << c.reinitialisations << " (" << c.maps_continued << " continuing the map, "
+    << c.atlas_relocalisations << " placed by the atlas of " << c.atlas_requests << " asked)"
     << (c.scale_corrections > 0 ? ", mono scale corrections " + std::to_string(c.scale_corrections)
                                 : std::string())
     << "\n";

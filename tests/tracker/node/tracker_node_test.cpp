@@ -13,6 +13,7 @@
 #include "common/lcm/decode.h"
 #include "hsslam/heartbeat_t.hpp"
 #include "tests/config/config_test_util.h"
+#include "tests/lcm/lcm_test_util.h"
 #include "tests/tracker/node/node_test_util.h"
 
 namespace hs {
@@ -28,14 +29,7 @@ struct Outputs {
   std::vector<hsslam::heartbeat_t> heartbeats;
 };
 
-template <class Msg>
-void collect(const lcm::ReceiveBuffer* rbuf, const std::string& channel, std::vector<Msg>* out) {
-  try {
-    out->push_back(decode_message<Msg>(rbuf->data, rbuf->data_size, channel));
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << e.what();
-  }
-}
+using test::collect;
 
 int64_t counter(const hsslam::tracker_status_t& s, const std::string& name) {
   for (int i = 0; i < s.num_counters; ++i)
