@@ -150,7 +150,8 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   c.g_w = g_w_;
   c.seq = next_seq_++;
   step.correction = std::move(c);
-  if (world_moved) start_full_ba(id);
+  const int full_every = options_.full_ba.every_keyframes;
+  if (world_moved || (full_every > 0 && counters_.keyframes % full_every == 0)) start_full_ba(id);
   return step;
 }
 

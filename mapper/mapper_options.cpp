@@ -144,10 +144,12 @@ MapperConfig load_mapper_config(const std::string& path) {
     FullBaOptions& f = o.full_ba;
     s.read("enabled", f.enabled);
     s.read("background", f.background);
+    s.read("every_keyframes", f.every_keyframes);
     s.read("iterations_per_round", f.iterations_per_round);
     s.read("time_budget_ms", f.time_budget_ms);
     s.read("far_point_disparity_px", f.far_point_disparity_px);
-    if (f.iterations_per_round < 1 || !(f.time_budget_ms > 0) || !(f.far_point_disparity_px >= 0))
+    if (f.iterations_per_round < 1 || f.every_keyframes < 0 || !(f.time_budget_ms > 0) ||
+        !(f.far_point_disparity_px >= 0))
       s.fail("enabled", "full BA options out of range");
   });
   top.section("fusion", [&](ConfigSection& s) {

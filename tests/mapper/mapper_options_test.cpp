@@ -55,6 +55,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.localisation_only, d.localisation_only);
   EXPECT_EQ(c.mapper.full_ba.enabled, d.full_ba.enabled);
   EXPECT_EQ(c.mapper.full_ba.background, d.full_ba.background);
+  EXPECT_EQ(c.mapper.full_ba.every_keyframes, d.full_ba.every_keyframes);
   EXPECT_EQ(c.mapper.full_ba.iterations_per_round, d.full_ba.iterations_per_round);
   EXPECT_EQ(c.mapper.full_ba.time_budget_ms, d.full_ba.time_budget_ms);
   EXPECT_EQ(c.mapper.full_ba.far_point_disparity_px, d.full_ba.far_point_disparity_px);
@@ -110,11 +111,15 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_TRUE(load_mapper_config(fusion.path()).mapper.localisation_only);
   const TempYaml bad_fusion("fusion:\n  revisited_keyframes: 0\n");
   expect_input_error([&] { load_mapper_config(bad_fusion.path()); }, {"fusion", "range"});
-  const TempYaml full_ba("full_ba:\n  background: false\n  iterations_per_round: 3\n");
+  const TempYaml full_ba(
+      "full_ba:\n  background: false\n  every_keyframes: 40\n  iterations_per_round: 3\n");
   EXPECT_FALSE(load_mapper_config(full_ba.path()).mapper.full_ba.background);
+  EXPECT_EQ(load_mapper_config(full_ba.path()).mapper.full_ba.every_keyframes, 40);
   EXPECT_EQ(load_mapper_config(full_ba.path()).mapper.full_ba.iterations_per_round, 3);
   const TempYaml bad_full_ba("full_ba:\n  time_budget_ms: 0\n");
   expect_input_error([&] { load_mapper_config(bad_full_ba.path()); }, {"full_ba", "range"});
+  const TempYaml bad_every("full_ba:\n  every_keyframes: -5\n");
+  expect_input_error([&] { load_mapper_config(bad_every.path()); }, {"full_ba", "range"});
   const TempYaml bad_calib("calibration:\n  imu: missing_imu.yaml\n");
   expect_input_error([&] { load_mapper_config(bad_calib.path()); }, {"missing_imu.yaml"});
 }
