@@ -184,7 +184,6 @@ class Tracker {
   int32_t last_map_id_ = 0;  // map ids are never reused (one may be promised to the atlas)
   struct AtlasRequest {
     int64_t seq = 0;
-    int64_t t_ns = 0;
     int32_t next_map_id = 0;
     Eigen::Isometry3d T_w_b = Eigen::Isometry3d::Identity();  // the guess sent
   };

@@ -20,7 +20,6 @@ bool Tracker::ask_atlas(const StereoFrame& frame, const ImagePyramid& pyr,
     if (stats.new_points < options_.reloc_min_inliers) {
       r.message +=
           "; not sent to the atlas: " + std::to_string(stats.new_points) + " stereo points";
-      atlas_request_.reset();
     } else {
       AtlasQuery q;
       q.seq = next_atlas_seq_++;
@@ -32,7 +31,7 @@ bool Tracker::ask_atlas(const StereoFrame& frame, const ImagePyramid& pyr,
       q.next_map_id = atlas_map_id_;
       q.frame = std::move(kf);
       q.points = std::move(points);
-      atlas_request_ = AtlasRequest{q.seq, frame.t_ns, q.next_map_id, predicted.T_w_b()};
+      atlas_request_ = AtlasRequest{q.seq, q.next_map_id, predicted.T_w_b()};
       ++counters_.atlas_requests;
       r.message += "; asked the atlas (request " + std::to_string(q.seq) + ")";
       r.atlas_query = std::move(q);
