@@ -1,5 +1,7 @@
 #include "mapper/offline/observation_check.h"
 
+#include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "common/geometry/triangulation.h"
@@ -9,6 +11,7 @@ namespace hs {
 namespace {
 
 struct Sighting {
+  int64_t t_ns;
   Eigen::Isometry3d T_c_w;
   const PinholeRadtan* camera;
   int index;  // 0: cam0, 1: cam1
@@ -21,6 +24,20 @@ std::optional<Eigen::Vector2d> residual(const Sighting& s, const Eigen::Vector3d
   return Eigen::Vector2d(s.uv - s.camera->project(p_c));
 }
 
+// An outlier breaks the track: only consecutive inliers make a pair.
+void add_track(std::vector<std::pair<int64_t, std::optional<Eigen::Vector2d>>>& track,
+               TrackCorrelation& out) {
+  std::sort(track.begin(), track.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (size_t k = 0; k < track.size(); ++k) {
+    if (!track[k].second) continue;
+    out.squares += track[k].second->squaredNorm();
+    if (k + 1 == track.size() || !track[k + 1].second) continue;
+    out.lagged_products += track[k].second->dot(*track[k + 1].second);
+    ++out.pairs;
+  }
+}
+
 }  // namespace
 
 ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCalib& calib,
@@ -29,6 +46,7 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
   ObservationCheck out;
   std::vector<Sighting> sightings;
   std::vector<PointView> views;
+  std::vector<std::pair<int64_t, std::optional<Eigen::Vector2d>>> track;  // cam0, by time
   for (int64_t id : graph.point_ids()) {
     const MapperPoint& p = *graph.point(id);
     sightings.clear();
@@ -42,10 +60,14 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
       ++keyframes;
       const MapperKeypoint& kp = kf->keypoints[static_cast<size_t>(o.keypoint)];
       const Eigen::Isometry3d T_w_c0 = *T * calib.cam0.T_b_c;
-      sightings.push_back({T_w_c0.inverse(), &calib.cam0.intrinsics, 0, {kp.u, kp.v}});
-      if (kp.u_right < 0.f) continue;
       sightings.push_back(
-          {(*T * calib.cam1.T_b_c).inverse(), &calib.cam1.intrinsics, 1, {kp.u_right, kp.v_right}});
+          {kf->state.t_ns, T_w_c0.inverse(), &calib.cam0.intrinsics, 0, {kp.u, kp.v}});
+      if (kp.u_right < 0.f) continue;
+      sightings.push_back({kf->state.t_ns,
+                           (*T * calib.cam1.T_b_c).inverse(),
+                           &calib.cam1.intrinsics,
+                           1,
+                           {kp.u_right, kp.v_right}});
       if (!start && kp.depth > 0.f)
         start =
             T_w_c0 * (Eigen::Vector3d(
@@ -60,9 +82,12 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
         refine_point(start.value_or(p.p_w), views, options.iterations);
     if (!refined) continue;
     ++out.points;
+    track.clear();
     for (const Sighting& s : sightings) {
-      const std::optional<Eigen::Vector2d> r = residual(s, refined->p_w);
-      if (!r || r->norm() > options.max_residual_px) {
+      std::optional<Eigen::Vector2d> r = residual(s, refined->p_w);
+      if (r && r->norm() > options.max_residual_px) r.reset();
+      if (s.index == 0) track.emplace_back(s.t_ns, r);
+      if (!r) {
         ++out.outliers;
         continue;
       }
@@ -71,6 +96,7 @@ ObservationCheck check_observations(const KeyframeGraph& graph, const StereoCali
       stats.sum += *r;
       stats.sum_squared += r->squaredNorm();
     }
+    add_track(track, out.track);
   }
   return out;
 }

@@ -4,7 +4,10 @@
 // observations' residuals are summed per camera. At the ground-truth poses of a simulated run
 // this checks the front end's measurements: unbiased, and explained by the truth as well as by
 // the estimate (a systematic error, e.g. a half-pixel convention, shows as a mean or as a
-// truth that fits worse than the estimate).
+// truth that fits worse than the estimate). It also measures how a point's cam0 residuals
+// correlate from one keyframe to the next: bundle adjustment takes them as independent, and
+// errors that follow the track (a patch drifting with the viewpoint) count as information
+// they are not.
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
@@ -32,8 +35,21 @@ struct ObservationCheckOptions {
   int iterations = 10;           // Gauss-Newton steps per point
 };
 
+// Lag-1 autocorrelation of residuals along tracks: sum r_k . r_k+1 over consecutive inlier
+// pairs of each point's cam0 sightings in time order, over the sum of r_k^2. About 0 for
+// independent noise (slightly below: the triangulation absorbs some of it), towards 1 for an
+// error that drifts slowly along the track.
+struct TrackCorrelation {
+  double lagged_products = 0.0;  // px^2
+  double squares = 0.0;          // px^2
+  int64_t pairs = 0;
+
+  double lag1() const { return squares > 0.0 ? lagged_products / squares : 0.0; }
+};
+
 struct ObservationCheck {
   std::array<ResidualStats, 2> camera;  // cam0, cam1 (stereo keypoints' right pixel)
+  TrackCorrelation track;               // cam0
   int points = 0;                       // triangulated (not singular, in front of every camera)
   int64_t outliers = 0;
 };

@@ -15,7 +15,11 @@ namespace hs {
 namespace {
 
 // vehicle_loop's first 20 s, tracker + mapper. Measured: residual RMS 0.216 px (cam0) and 0.224
-// px (cam1) at the true poses, 0.216 and 0.224 at the estimate; means under 0.006 px.
+// px (cam1) at the true poses, 0.216 and 0.224 at the estimate; means under 0.006 px. But a
+// point's cam0 residuals follow its track: lag-1 autocorrelation 0.42 from keyframe to keyframe
+// (0.58 for cam0-only points seen 8+ times over 50 s; the keyframes' ORB detections instead of
+// the tracked positions: 0.43 at lag 1, 0.02 at lag 3 against 0.22), which the BA, taking
+// them as independent, counts as information.
 TEST(ObservationCheck, VehicleLoopObservationsAreUnbiasedAndExplainedByTheTruth) {
   sim::Scenario s = sim::load_scenario(HS_SOURCE_DIR "/config/sim/vehicle_loop.yaml");
   s.duration_s = 20.0;
@@ -56,6 +60,11 @@ TEST(ObservationCheck, VehicleLoopObservationsAreUnbiasedAndExplainedByTheTruth)
     EXPECT_LT(r.rms(), 1.05 * est.camera[c].rms()) << "cam" << c;
   }
   EXPECT_LT(gt.outliers, gt.camera[0].count / 50);
+  std::cout << "cam0 residuals along tracks: lag-1 autocorrelation " << gt.track.lag1()
+            << " at the true poses over " << gt.track.pairs << " keyframe pairs (at the estimate "
+            << est.track.lag1() << ")\n";
+  ASSERT_GT(gt.track.pairs, 5000);
+  EXPECT_LT(gt.track.lag1(), 0.6);
 
   // The check sees a systematic error: the truth with cam0 turned by 0.05 deg (0.4 px).
   const Eigen::Isometry3d turn(Eigen::AngleAxisd(0.05 * M_PI / 180.0, Eigen::Vector3d::UnitY()));
