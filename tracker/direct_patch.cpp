@@ -122,15 +122,24 @@ const char* to_string(PatchAlignStatus status) {
 }
 
 Eigen::Matrix2d affine_warp_cur_ref(const PinholeRadtan& cam, const Eigen::Vector3d& p_ref,
-                                    const Eigen::Isometry3d& T_cur_ref) {
+                                    const Eigen::Isometry3d& T_cur_ref,
+                                    const Eigen::Vector3d& n_ref) {
   const Eigen::Vector3d p_cur = T_cur_ref * p_ref;
   if (!(p_ref.z() > 0.0) || !(p_cur.z() > 0.0)) return Eigen::Matrix2d::Identity();
   // Reference pixel -> normalised coordinates -> point at the same depth -> current pixel.
   const Eigen::Vector2d xy = p_ref.head<2>() / p_ref.z();
   const Eigen::Matrix2d dxy_duv =
       cam.distort_jacobian(xy).inverse() * Eigen::Vector2d(1.0 / cam.fx, 1.0 / cam.fy).asDiagonal();
-  Eigen::Matrix<double, 3, 2> dp_duv = Eigen::Matrix<double, 3, 2>::Zero();
-  dp_duv.topRows<2>() = p_ref.z() * dxy_duv;
+  Eigen::Matrix<double, 3, 2> dr_duv = Eigen::Matrix<double, 3, 2>::Zero();  // ray (x, y, 1)
+  dr_duv.topRows<2>() = dxy_duv;
+  // Along the ray through the neighbouring pixel to the plane: p = lambda * r with
+  // n . (p - p_ref) = 0, so dp = lambda * (I - r n^T / (n . r)) dr. Rays within ~3 deg of the
+  // plane keep the fronto-parallel warp (the plane's stretch is unbounded there).
+  const Eigen::Vector3d r = p_ref / p_ref.z();
+  Eigen::Matrix3d project_on_plane = Eigen::Matrix3d::Identity();
+  if (n_ref.squaredNorm() > 0.0 && std::abs(n_ref.dot(r)) > 0.05 * r.norm() * n_ref.norm())
+    project_on_plane -= r * n_ref.transpose() / n_ref.dot(r);
+  const Eigen::Matrix<double, 3, 2> dp_duv = p_ref.z() * project_on_plane * dr_duv;
   Eigen::Vector2d uv;
   Eigen::Matrix<double, 2, 3> J;
   cam.project(p_cur, &uv, &J);

@@ -43,10 +43,14 @@ struct PatchAlignResult {
   bool ok() const { return status == PatchAlignStatus::kOk; }
 };
 
-// d(uv_cur)/d(uv_ref) at level 0 for a patch on the plane of constant reference depth through
-// p_ref (fronto-parallel). Identity when there is no motion.
+// d(uv_cur)/d(uv_ref) at level 0 for a patch on the plane through p_ref with normal n_ref
+// (reference camera frame); a zero normal means the plane of constant reference depth
+// (fronto-parallel). Identity when there is no motion. On the ground ahead or a facade along
+// the road the fronto-parallel warp underestimates the stretch, and the patch follows its
+// nearer, sharper part: the points seem to move more than they do.
 Eigen::Matrix2d affine_warp_cur_ref(const PinholeRadtan& cam, const Eigen::Vector3d& p_ref,
-                                    const Eigen::Isometry3d& T_cur_ref);
+                                    const Eigen::Isometry3d& T_cur_ref,
+                                    const Eigen::Vector3d& n_ref = Eigen::Vector3d::Zero());
 
 // Start level of the search: the lowest level where search_radius_px (level 0) is within the
 // capture radius, clamped to [0, num_levels - 1].

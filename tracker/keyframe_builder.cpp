@@ -182,10 +182,11 @@ std::vector<int> KeyframeBuilder::new_point_candidates(const Keyframe& kf, int w
 }
 
 void KeyframeBuilder::add_point(Keyframe& kf, int i, const Eigen::Vector3d& p_w, LocalMap& map,
-                                KeyframeBuildStats& st) const {
+                                KeyframeBuildStats& st, const Eigen::Vector3d& n_w) const {
   MapPoint p;
   p.id = map.new_point_id();
   p.p_w = p_w;
+  p.n_w = n_w;
   std::memcpy(p.descriptor.data(), kf.features.descriptors.ptr<uint8_t>(i), 32);
   p.ref_keyframe_id = kf.id;
   p.ref_uv = kf.features.uv(i);
@@ -269,7 +270,7 @@ void KeyframeBuilder::add_stereo_points(const StereoFrame& frame, Keyframe& kf, 
     ++st.stereo_matched;
     kf.uv_right[i] = matches[k].uv1.cast<float>();
     kf.depth[i] = static_cast<float>(matches[k].p_c0.z());
-    add_point(kf, i, kf.T_w_c0 * matches[k].p_c0, map, st);
+    add_point(kf, i, kf.T_w_c0 * matches[k].p_c0, map, st, kf.T_w_c0.linear() * matches[k].n_c0);
   }
 }
 

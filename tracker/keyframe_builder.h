@@ -56,7 +56,8 @@ class KeyframeBuilder {
   // covers (one per cell), up to the per-keyframe budget.
   std::vector<int> new_point_candidates(const Keyframe& kf, int width, int height) const;
   void add_point(Keyframe& kf, int keypoint, const Eigen::Vector3d& p_w, LocalMap& map,
-                 KeyframeBuildStats& st) const;
+                 KeyframeBuildStats& st,
+                 const Eigen::Vector3d& n_w = Eigen::Vector3d::Zero()) const;
 
   const TrackerOptions& options_;
   OrbExtractor orb_;

@@ -79,7 +79,10 @@ NavState WorldSimilarity::body(const NavState& x, const Eigen::Isometry3d& T_b_c
 }
 
 void LocalMap::transform_world(const WorldSimilarity& S, const Eigen::Isometry3d& T_b_c0) {
-  for (auto& [id, p] : points_) p.p_w = S.point(p.p_w);
+  for (auto& [id, p] : points_) {
+    p.p_w = S.point(p.p_w);
+    p.n_w = S.R_new_old * p.n_w;
+  }
   for (const auto* list : {&window_, &database_})
     for (const auto& kf : *list) {
       kf->T_w_c0 = S.camera(kf->T_w_c0);

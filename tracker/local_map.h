@@ -28,6 +28,9 @@ struct MapPoint {
   int64_t ref_keyframe_id = -1;
   Eigen::Vector2d ref_uv = Eigen::Vector2d::Zero();
   int octave = 0;
+  // Unit normal of the surface at the point (from the stereo match's slant), for the patch's
+  // warp; zero when unknown (fronto-parallel).
+  Eigen::Vector3d n_w = Eigen::Vector3d::Zero();
   // Mono: the keyframes that saw the point and where (raw pixel), for its triangulation from
   // all of them (a stereo point has its depth from the pair and needs none).
   std::vector<std::pair<int64_t, Eigen::Vector2d>> sightings;

@@ -589,7 +589,8 @@ Tracker::Correspondences Tracker::direct_correspondences(const ImagePyramid& pyr
       const Candidate* c = selected[i];
       const Eigen::Isometry3d T_cur_ref = T_c_w * kf->T_w_c0;
       const Eigen::Vector3d p_ref = kf->T_w_c0.inverse() * c->point->p_w;
-      const Eigen::Matrix2d A = affine_warp_cur_ref(cam, p_ref, T_cur_ref);
+      const Eigen::Matrix2d A = affine_warp_cur_ref(
+          cam, p_ref, T_cur_ref, kf->T_w_c0.linear().transpose() * c->point->n_w);
       results[i] = align_patch(kf->pyramid, c->point->ref_uv, A, pyr, c->uv, search_radius_px,
                                options_.direct.patch);
     }

@@ -117,6 +117,7 @@ TrackerOptions load_tracker_options(const std::string& path) {
     s.read("max_epipolar_px", o.stereo_match.max_epipolar_px);
     s.read("min_depth_m", o.stereo_match.min_depth_m);
     s.read("max_depth_m", o.stereo_match.max_depth_m);
+    s.read("refine_slanted", o.stereo_match.refine_slanted);
   });
   top.section("descriptor_matching", [&](ConfigSection& s) {
     s.read("max_distance", o.matching.max_distance);

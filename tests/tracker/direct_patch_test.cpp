@@ -87,6 +87,31 @@ TEST_F(PatchAlignTest, AffineWarpMatchesFiniteDifferences) {
                   .isApprox(Eigen::Matrix2d::Identity(), 1e-9));
 }
 
+TEST_F(PatchAlignTest, AffineWarpOnASlantedPlaneMatchesFiniteDifferences) {
+  // A point on the ground 1.5 m below the camera, seen after 0.5 m of forward motion.
+  const Eigen::Vector3d p_ref(0.4, 1.5, 6.0), n_ref(0, -1, 0);
+  const Eigen::Isometry3d T_cur_ref = make_pose({0, 0, -0.5}, Eigen::Vector3d(0, 0.01, 0));
+  const Eigen::Matrix2d A = affine_warp_cur_ref(cam(), p_ref, T_cur_ref, n_ref);
+  const Eigen::Vector2d uv = cam().project(p_ref);
+  const auto on_plane = [&](const Eigen::Vector2d& u) {
+    const Eigen::Vector3d ray = cam().unproject_normalised(u).homogeneous();
+    return cam().project(T_cur_ref * (ray * (n_ref.dot(p_ref) / n_ref.dot(ray))));
+  };
+  const double h = 1e-3;
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::Vector2d d = h * Eigen::Vector2d::Unit(k);
+    const Eigen::Vector2d numeric = (on_plane(uv + d) - on_plane(uv - d)) / (2.0 * h);
+    EXPECT_LT((A.col(k) - numeric).norm(), 1e-6) << k;
+  }
+  // The fronto-parallel warp stretches the ground's rows too little: the patch is compared
+  // with the wrong image.
+  const Eigen::Matrix2d fronto = affine_warp_cur_ref(cam(), p_ref, T_cur_ref);
+  EXPECT_GT(A(1, 1) - fronto(1, 1), 0.05);
+  // A normal within 3 deg of the plane of the ray keeps the fronto-parallel warp.
+  const Eigen::Vector3d grazing = p_ref.normalized().cross(Eigen::Vector3d::UnitX()).normalized();
+  EXPECT_TRUE(affine_warp_cur_ref(cam(), p_ref, T_cur_ref, grazing).isApprox(fronto, 1e-12));
+}
+
 TEST(PatchStartLevel, FollowsTheSearchRadius) {
   const PatchAlignOptions options;  // capture radius 2 px
   EXPECT_EQ(patch_start_level(1.0, 4, options), 0);
