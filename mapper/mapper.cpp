@@ -80,7 +80,13 @@ MapperStep Mapper::add_keyframe(MapperKeyframe keyframe) {
   }
   WindowInput problem = window_input(graph_, window, options_.window);
   for (BaPoint& p : problem.input.points) p.fixed = p.fixed || frozen_point(p.id);
-  problem.input.gravity = {g_w_, options_.window_gravity_sigma_rad};
+  // A mono window (no cam1 view in it) has its gravity from a rougher start than the levelling
+  // at rest, and lets it move.
+  const bool mono =
+      std::none_of(problem.input.observations.begin(), problem.input.observations.end(),
+                   [](const BaObservation& o) { return o.camera == 1; });
+  problem.input.gravity = {
+      g_w_, mono ? options_.window_gravity_mono_sigma_rad : options_.window_gravity_sigma_rad};
   counters_.imu_factors_skipped += problem.imu_factors_skipped;
   step.window_keyframes = static_cast<int>(window.keyframes.size());
   step.window_points = static_cast<int>(problem.input.points.size());

@@ -30,6 +30,8 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read_seconds("max_imu_gap_s", o.window.max_imu_gap_ns);
     s.read_degrees("window_gravity_deg", o.window_gravity_sigma_rad);
     if (!(o.window_gravity_sigma_rad >= 0)) s.fail("window_gravity_deg", "must be >= 0");
+    s.read_degrees("window_gravity_mono_deg", o.window_gravity_mono_sigma_rad);
+    if (!(o.window_gravity_mono_sigma_rad >= 0)) s.fail("window_gravity_mono_deg", "must be >= 0");
     s.read("point_outlier_ratio", o.point_outlier_ratio);
     if (!(o.point_outlier_ratio > 0 && o.point_outlier_ratio <= 1))
       s.fail("point_outlier_ratio", "must be in (0, 1]");

@@ -85,14 +85,14 @@ std::vector<StereoMatch> StereoMatcher::match(const cv::Mat& image0, const cv::M
       // The epipolar direction at the match: where cam1 sees cam0's ray a little nearer.
       const Eigen::Vector2d e =
           cam1.project(T_c1_c0_ * (0.95 * *p_c0)) - cam1.project(T_c1_c0_ * (1.05 * *p_c0));
-      const auto refined = e.norm() > 1e-6
-                               ? refine_slanted_match(image0, *slanted_image, uv0[i], uv1,
-                                                      e.normalized(), options_.slanted)
-                               : std::nullopt;
+      const Eigen::Vector2d e_dir = e.normalized();
+      const auto refined = e.norm() > 1e-6 ? refine_slanted_match(image0, *slanted_image, uv0[i],
+                                                                  uv1, e_dir, options_.slanted)
+                                           : std::nullopt;
       if (refined) {
         uv1 = refined->uv1;
         p_c0 = triangulate(uv0[i], uv1);
-        n_c0 = surface_normal(uv0[i], *refined, e.normalized());
+        n_c0 = surface_normal(uv0[i], *refined, e_dir);
       }
     }
     if (!p_c0 || p_c0->z() < options_.min_depth_m || p_c0->z() > options_.max_depth_m) return {};

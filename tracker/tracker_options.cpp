@@ -106,6 +106,7 @@ TrackerOptions load_tracker_options(const std::string& path) {
       s.fail("prior_fading", "must be in (0, 1]");
     s.read("threads", o.threads);
     if (o.threads < 0) s.fail("threads", "must be >= 0 (0: all cores)");
+    s.read("reanchor_every_keyframe", o.reanchor_every_keyframe);
     s.read("local_map_keyframes", o.local_map.max_keyframes);
     s.read("relocalisation_keyframes", o.local_map.max_database_keyframes);
     if (o.max_points_per_frame < 10 || o.point_grid_px < 4 || o.local_map.max_keyframes < 2)

@@ -105,6 +105,12 @@ struct TrackerOptions {
   int init_min_points = 60;             // stereo points needed to start a map
   int max_new_points_per_keyframe = 200;
   int new_point_cell_px = 24;  // new points only in cells without a tracked point
+  // A tracked point's patch is re-anchored on each new keyframe (true), or kept on the keyframe
+  // that made it until that keyframe leaves the window (false). False tracks with less drift
+  // (tracker alone, vehicle_loop 50 s seeds 1-4: ATE 2.84 cm mean against 3.98), but every
+  // keyframe's view of a point then carries its one anchor's error, which the mapper takes as
+  // independent (room_mav 20 s with the mapper: 0.11 cm against 0.08).
+  bool reanchor_every_keyframe = true;
   int reloc_min_inliers = 25;
   int64_t reinit_after_lost_ns = 500'000'000;  // then start a new local map in place
   // ... which continues the map (same map id: the pose was dead-reckoned by the IMU) when

@@ -19,6 +19,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.graph.max_fixed_keyframes, d.graph.max_fixed_keyframes);
   EXPECT_EQ(c.mapper.ba.function_tolerance, d.ba.function_tolerance);
   EXPECT_NEAR(c.mapper.window_gravity_sigma_rad, d.window_gravity_sigma_rad, 1e-15);
+  EXPECT_NEAR(c.mapper.window_gravity_mono_sigma_rad, d.window_gravity_mono_sigma_rad, 1e-15);
   EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);
   EXPECT_EQ(c.mapper.inertial.max_keyframes, d.inertial.max_keyframes);
   EXPECT_NEAR(c.mapper.inertial.gravity_prior_sigma_rad, d.inertial.gravity_prior_sigma_rad, 1e-15);

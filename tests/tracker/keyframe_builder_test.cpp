@@ -114,6 +114,41 @@ TEST_F(KeyframeBuilderTest, KeypointsKeepTheirPointIdsAndDescriptors) {
   EXPECT_EQ(checked, 20);
 }
 
+// A tracked point's patch (its reference keyframe) moves to every new keyframe, or, with
+// reanchor_every_keyframe off, stays on the keyframe that made it until that keyframe is about
+// to leave the window (its image goes with it).
+TEST_F(KeyframeBuilderTest, PointsReanchorEveryKeyframeOrWhenTheirReferenceLeavesTheWindow) {
+  for (const bool every : {true, false}) {
+    SCOPED_TRACE(every ? "every keyframe" : "when leaving");
+    TrackerOptions options = options_;
+    options.reanchor_every_keyframe = every;
+    options.local_map.max_keyframes = 2;
+    LocalMap map(options.local_map);
+    const ImagePyramid pyr = build_pyramid(frame_.cam0, options.pyramid_levels);
+    KeyframeBuilder builder(options);
+    KeyframeBuildStats stats;
+    const auto first = builder.build(frame_, pyr, nav_, {}, nullptr, map, &stats);
+    map.add_keyframe(first);
+    std::vector<TrackedObservation> tracked;  // the first keyframe's points, seen again
+    for (size_t i = 0; i < first->point_ids.size() && tracked.size() < 40; ++i)
+      if (first->point_ids[i] >= 0) tracked.push_back({first->point_ids[i], first->features.uv(i)});
+    ASSERT_EQ(tracked.size(), 40u);
+    const auto refs = [&] {
+      std::vector<int64_t> out;
+      for (const TrackedObservation& t : tracked)
+        out.push_back(map.point(t.point_id)->ref_keyframe_id);
+      return out;
+    };
+
+    const auto second = builder.build(frame_, pyr, nav_, tracked, nullptr, map, &stats);
+    EXPECT_EQ(refs(), std::vector<int64_t>(tracked.size(), every ? second->id : first->id));
+    map.add_keyframe(second);
+    // The window is full: the first keyframe leaves it when the third is added.
+    const auto third = builder.build(frame_, pyr, nav_, tracked, nullptr, map, &stats);
+    EXPECT_EQ(refs(), std::vector<int64_t>(tracked.size(), third->id));
+  }
+}
+
 // Mono rig: a keyframe's new points come from epipolar matches with the previous keyframe,
 // triangulated onto the wall; its tracked points and the first keyframe's keypoints make none.
 TEST_F(KeyframeBuilderTest, MonoKeyframesTriangulateWithThePreviousKeyframe) {
