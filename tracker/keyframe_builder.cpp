@@ -5,7 +5,6 @@
 #include <cstring>
 #include <numeric>
 #include <optional>
-#include <unordered_set>
 
 #include "common/features/descriptor_match.h"
 #include "common/features/epipolar_points.h"
@@ -125,12 +124,6 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
   kf->uv_right.assign(n, Eigen::Vector2f(-1.f, -1.f));
   kf->depth.assign(n, -1.f);
 
-  // Window keyframes that keep their image once this one is added (the oldest of a full window
-  // leaves it).
-  std::unordered_set<int64_t> staying;
-  for (const auto& w : map.window()) staying.insert(w->id);
-  if (static_cast<int>(map.window().size()) >= options_.local_map.max_keyframes)
-    staying.erase(map.window().front()->id);
   for (size_t i = 0; i < n; ++i) {
     if (kf->point_ids[i] < 0) continue;
     ++st.attached;
@@ -138,7 +131,8 @@ std::shared_ptr<Keyframe> KeyframeBuilder::build(const StereoFrame& frame,
     if (!p) continue;
     // Re-anchor tracked points on the newest keyframe: its patch is the closest in viewpoint to
     // the frames that follow.
-    if (options_.reanchor_every_keyframe || !staying.count(p->ref_keyframe_id)) {
+    if (options_.reanchor_every_keyframe ||
+        !map.in_window_after_next_keyframe(p->ref_keyframe_id)) {
       p->ref_keyframe_id = kf->id;
       p->ref_uv = kf->features.uv(i);
     }

@@ -1,5 +1,6 @@
 #include "tracker/local_map.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_set>
 
@@ -17,9 +18,15 @@ std::shared_ptr<Keyframe> LocalMap::keyframe(int64_t id) const {
   return nullptr;
 }
 
+bool LocalMap::in_window_after_next_keyframe(int64_t id) const {
+  if (window_full() && window_.front()->id == id) return false;
+  return std::any_of(window_.begin(), window_.end(), [id](const auto& kf) { return kf->id == id; });
+}
+
 void LocalMap::add_keyframe(std::shared_ptr<Keyframe> keyframe) {
+  const bool retire = window_full();
   window_.push_back(std::move(keyframe));
-  if (static_cast<int>(window_.size()) <= options_.max_keyframes) return;
+  if (!retire) return;
   retire_oldest();
   drop_unreferenced_points();
 }

@@ -93,6 +93,8 @@ class LocalMap {
   const std::deque<std::shared_ptr<Keyframe>>& window() const { return window_; }
   const std::deque<std::shared_ptr<Keyframe>>& database() const { return database_; }
   std::shared_ptr<Keyframe> keyframe(int64_t id) const;
+  // Whether keyframe `id` is still in the window (holds its image) once one more is added.
+  bool in_window_after_next_keyframe(int64_t id) const;
   std::shared_ptr<Keyframe> latest_keyframe() const {
     return window_.empty() ? nullptr : window_.back();
   }
@@ -110,6 +112,8 @@ class LocalMap {
   std::vector<std::optional<Eigen::Vector3d>> point_positions(const Keyframe& kf) const;
 
  private:
+  // The next keyframe added makes the oldest leave the window.
+  bool window_full() const { return static_cast<int>(window_.size()) >= options_.max_keyframes; }
   void retire_oldest();
   void drop_unreferenced_points();
 
