@@ -29,7 +29,10 @@ LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
     if (thread_cpu_s() >= cpu_deadline_s) break;
     if (round > 0) problem.drop_outliers(options_.chi2_threshold);
     if (!problem.has_terms()) break;
-    const ceres::Solver::Summary summary = problem.solve(cpu_deadline_s);
+    const bool screening = round + 1 < num_rounds;
+    const ceres::Solver::Summary summary =
+        problem.solve(cpu_deadline_s, screening ? options_.screening_function_tolerance
+                                                : options_.function_tolerance);
     if (round == 0) result.stats.initial_cost = summary.initial_cost;
     result.stats.final_cost = summary.final_cost;
     result.stats.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;

@@ -24,6 +24,10 @@ struct LocalBaOptions {
   int iterations_per_round = 10;  // Levenberg-Marquardt iterations
   // A round stops when an iteration lowers the cost by less than this share.
   double function_tolerance = 1e-6;
+  // ... the first of two rounds, which only has to find the outliers. 1e-4 takes the room_mav
+  // BA from 12.6 to 8.8 iterations (CPU median 63 -> 48 ms) at the same ATE, but moves two
+  // chaotic vehicle tests (see README); the default stays at the second round's.
+  double screening_function_tolerance = 1e-6;
   bool reject_outliers = true;  // second round without the chi2 outliers of the first
   // Limit on the CPU time of the calling thread over both rounds (num_threads 1); the solver
   // stops with its current estimate after the iteration that crosses it.

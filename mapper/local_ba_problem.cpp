@@ -220,9 +220,10 @@ class CpuDeadline : public ceres::IterationCallback {
 
 }  // namespace
 
-ceres::Solver::Summary LocalBaProblem::solve(double cpu_deadline_s) {
+ceres::Solver::Summary LocalBaProblem::solve(double cpu_deadline_s, double function_tolerance) {
   CpuDeadline deadline(cpu_deadline_s);
   ceres::Solver::Options options = solver_options_;
+  options.function_tolerance = function_tolerance;
   options.callbacks.push_back(&deadline);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem_, &summary);

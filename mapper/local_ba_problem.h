@@ -37,7 +37,7 @@ class LocalBaProblem {
   bool has_terms() const { return problem_.NumResidualBlocks() > 0; }
   // At most options.iterations_per_round iterations; none begins once the calling thread's
   // CPU time (thread_cpu_s) has passed cpu_deadline_s.
-  ceres::Solver::Summary solve(double cpu_deadline_s);
+  ceres::Solver::Summary solve(double cpu_deadline_s, double function_tolerance);
   // Whitened squared reprojection error of observation k at the current estimate; infinity
   // when it cannot be projected.
   double chi2(size_t k) const;

@@ -60,8 +60,7 @@ struct MapperOptions {
   // With the front end's slanted stereo and pixel_sigma 0.15 (vehicle_loop 50 s seeds 1-4, tracker
   // alone 3.98 cm mean): 0.1 deg 2.21 / 2.74 / 8.32 / 2.89 cm, 0 deg 1.95 / 3.15 / 4.22 / 3.26 cm:
   // a gravity that walks a little with every BA tilts the straights after the start.
-  // Default 0.1 deg until the two-process comparison holds at 0 (see README).
-  double window_gravity_sigma_rad = 0.1 * M_PI / 180.0;
+  double window_gravity_sigma_rad = 0.0;
   // The same for a mono window (no cam1 observation): its gravity comes from the tracker's
   // visual-inertial alignment. room_mav 40 s from cam0 with the mapper: ATE 2.7 cm at 0.1 deg,
   // 11 cm at 0.

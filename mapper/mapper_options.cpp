@@ -43,8 +43,11 @@ MapperConfig load_mapper_config(const std::string& path) {
     LocalBaOptions& b = o.ba;
     s.read("iterations_per_round", b.iterations_per_round);
     s.read("function_tolerance", b.function_tolerance);
+    s.read("screening_function_tolerance", b.screening_function_tolerance);
     if (!(b.function_tolerance > 0 && b.function_tolerance < 1))
       s.fail("function_tolerance", "must be in (0, 1)");
+    if (!(b.screening_function_tolerance > 0 && b.screening_function_tolerance < 1))
+      s.fail("screening_function_tolerance", "must be in (0, 1)");
     s.read("reject_outliers", b.reject_outliers);
     s.read("time_budget_ms", b.time_budget_ms);
     s.read("chi2_threshold", b.chi2_threshold);

@@ -20,8 +20,7 @@ struct WindowInputOptions {
   // Measured on room_mav 20 s seeds 1 and 2 (slanted stereo): ATE 0.78 / 0.83 mm at 0.15 px,
   // 1.04 / 0.83 at 0.2, 1.91 / 1.23 at 0.3, 2.42 / 2.06 at 0.6: too large a sigma lets the IMU
   // bend the window. Local BA takes 12.6 iterations instead of 8.6 at 0.3.
-  // Default 0.3 until the two-process comparison holds at 0.15 (see README).
-  double pixel_sigma = 0.3;
+  double pixel_sigma = 0.15;
   double octave_scale = 1.2;  // ORB pyramid scale: sigma = pixel_sigma * scale^octave
   // The same for the keypoints of points the mapper triangulated (mapper/new_points.h): ORB
   // detections, not tracked to sub-pixel.

@@ -24,8 +24,7 @@ struct StereoMatchOptions {
   // stereo_refine.h); a match the refinement cannot place keeps its flow result. Measured
   // (tracker alone): room_mav 20 s 0.17 cm (0.41 off), vehicle_loop 50 s seeds 1-4 3.98 cm mean
   // (4.21 off); keyframe stereo 4.6 ms instead of 2.0.
-  // Off by default until the mapper's matching weights are (see README, the mapper's table).
-  bool refine_slanted = false;
+  bool refine_slanted = true;
   SlantedRefineOptions slanted;
 };
 

@@ -18,6 +18,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.window.max_imu_gap_ns, d.window.max_imu_gap_ns);
   EXPECT_EQ(c.mapper.graph.max_fixed_keyframes, d.graph.max_fixed_keyframes);
   EXPECT_EQ(c.mapper.ba.function_tolerance, d.ba.function_tolerance);
+  EXPECT_EQ(c.mapper.ba.screening_function_tolerance, d.ba.screening_function_tolerance);
   EXPECT_NEAR(c.mapper.window_gravity_sigma_rad, d.window_gravity_sigma_rad, 1e-15);
   EXPECT_NEAR(c.mapper.window_gravity_mono_sigma_rad, d.window_gravity_mono_sigma_rad, 1e-15);
   EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);

@@ -117,9 +117,9 @@ test::TempDir* MapperProcess::dir_ = nullptr;
 
 TEST_F(MapperProcess, TwoProcessesThroughLogplayerMatchTheInProcessRun) {
   const double in_process = ate_rmse(gt(), d() + "/run/trajectory.tum", d() + "/run_eval.json");
-  ChildProcess recorder({HS_RECORD_TRAJECTORY, "--channel", "POSE", "--out", d() + "/pose.tum",
-                         "--lcm-url", url_, "--idle-timeout", "5"},
-                        d() + "/recorder.txt");
+  ChildProcess recorder(
+      {HS_RECORD_TRAJECTORY, "--channel", "POSE", "--out", d() + "/pose.tum", "--lcm-url", url_},
+      d() + "/recorder.txt");
   ChildProcess tracker(
       {HS_TRACKER, "--config", d() + "/node.yaml", "--calib", d() + "/sim", "--lcm-url", url_},
       d() + "/tracker.txt");
@@ -128,31 +128,34 @@ TEST_F(MapperProcess, TwoProcessesThroughLogplayerMatchTheInProcessRun) {
   ASSERT_TRUE(listening(mapper)) << mapper.output();
   ASSERT_TRUE(
       wait_for([&] { return recorder.output().find("recording") != std::string::npos; }, 20));
-  // Half speed: the comparison is of the split, not of the host's speed. A correction applied
-  // L frames after its keyframe leaves those frames uncorrected; on this flight the corrections
-  // move the pose by about half the ATE, so in process with L = 0, 1, 2, 3 frames the ATE is
-  // 1.00, 1.05, 1.04, 1.21x. At 1x a mapper slowed to 90 ms a keyframe by a busy host (55 ms
-  // idle) makes L about 2-3: the 1x timing is tested below and by the mapper's backlog.
-  ChildProcess player({"lcm-logplayer", "-s", "0.5", "-l", url_, d() + "/sim.lcmlog"},
+  // Quarter speed (a frame every 200 ms): the comparison is of the split, not of the host's
+  // speed. Every correction then reaches the tracker before the next frame, as in process, and
+  // the two trajectories are the same (measured 1.00x). A correction applied L frames
+  // after its keyframe leaves those frames uncorrected: at half speed, where a slow BA makes L
+  // one frame now and then, 1.03-1.11x. The 1x timing is tested below and by the backlog.
+  ChildProcess player({"lcm-logplayer", "-s", "0.25", "-l", url_, d() + "/sim.lcmlog"},
                       d() + "/player.txt");
-  pump([&] { return !player.running(); }, 90);
+  pump([&] { return !player.running(); }, 120);
   EXPECT_EQ(player.wait(), 0) << player.output();
-  ASSERT_EQ(recorder.wait(), 0) << recorder.output();
+  pump([] { return false; }, 1);  // the last frame's POSE
   tracker.signal(SIGINT);
   mapper.signal(SIGINT);
   EXPECT_EQ(tracker.wait(), 0) << tracker.output();
   EXPECT_EQ(mapper.wait(), 0) << mapper.output();
   pump([] { return false; }, 1);
+  recorder.signal(SIGINT);
+  ASSERT_EQ(recorder.wait(), 0) << recorder.output();
 
   const double two_processes = ate_rmse(gt(), d() + "/pose.tum", d() + "/pose_eval.json");
   std::printf("ATE in process %.4f m, two processes %.4f m (%.2fx)\n%s%s", in_process,
               two_processes, two_processes / in_process, tracker.output().c_str(),
               mapper.output().c_str());
-  // The corrections arrive a frame or so later than in process: the issue allows 10%.
+  // A CI host busy with other tests may still delay a correction by a frame: the issue allows 10%.
   EXPECT_LE(two_processes, 1.1 * in_process);
   EXPECT_GT(heard_.counter("corrections_applied"), 20);
   // Corrections may come a frame late over LCM (the keyframe's ORB, the BA, two hops: 150 ms
-  // seen under load; at half speed on a quiet host none is late, 0), but not by seconds.
+  // seen under load at half speed; at quarter speed on a quiet host at most 50), but not by
+  // seconds.
   std::printf("corrections at most %lld ms after their keyframe\n",
               static_cast<long long>(heard_.counter("max_correction_lag_ms")));
   EXPECT_GE(heard_.counter("max_correction_lag_ms"), 0) << "reported";
