@@ -171,7 +171,6 @@ void LocalBaProblem::fix_gauge() {
 
 void LocalBaProblem::configure_solver() {
   solver_options_.max_num_iterations = options_.iterations_per_round;
-  solver_options_.function_tolerance = options_.function_tolerance;
   solver_options_.num_threads = options_.num_threads;
   solver_options_.logging_type = ceres::SILENT;
   // Points are eliminated first; keyframe blocks and gravity form the reduced system. Ceres

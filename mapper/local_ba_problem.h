@@ -35,8 +35,9 @@ class LocalBaProblem {
                  const LocalBaIndex& index);
 
   bool has_terms() const { return problem_.NumResidualBlocks() > 0; }
-  // At most options.iterations_per_round iterations; none begins once the calling thread's
-  // CPU time (thread_cpu_s) has passed cpu_deadline_s.
+  // At most options.iterations_per_round iterations, stopping at function_tolerance (the round's
+  // own: see LocalBaOptions); none begins once the calling thread's CPU time (thread_cpu_s) has
+  // passed cpu_deadline_s.
   ceres::Solver::Summary solve(double cpu_deadline_s, double function_tolerance);
   // Whitened squared reprojection error of observation k at the current estimate; infinity
   // when it cannot be projected.
