@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <functional>
 
 #include "mapper/mapper.h"
 #include "mapper/offline/mapper_report.h"
@@ -25,8 +26,9 @@ struct LoopRun {
 
 // `close_loops` false: loops are detected (and reported) but neither closed nor fused.
 // `background_full_ba`: a full BA after a closure, landing whenever it ends, as in hs-mapper
-// with it enabled (not reproducible).
-LoopRun run(sim::Scenario s, bool close_loops = true, bool background_full_ba = false) {
+// with it enabled (not reproducible). `tweak` changes any other mapper option.
+LoopRun run(sim::Scenario s, bool close_loops = true, bool background_full_ba = false,
+            const std::function<void(MapperOptions&)>& tweak = {}) {
   TrackerOptions options;
   options.calib = s.camera.calib;
   MapperOptions mapper_options;
@@ -35,6 +37,7 @@ LoopRun run(sim::Scenario s, bool close_loops = true, bool background_full_ba = 
   mapper_options = reproducible(mapper_options);
   mapper_options.full_ba.enabled = background_full_ba;
   mapper_options.full_ba.background = background_full_ba;
+  if (tweak) tweak(mapper_options);
   Mapper mapper(options.calib, mapper_options);
   LoopRun out;
   OfflineRunOptions run_options;
@@ -181,46 +184,53 @@ TEST(LoopDetection, AfterABlackoutTheMapContinuesAndTheRoomsLookAlikeClosesNothi
 // places it, and the tracker continues in the room's map from the next frame, in the map id it
 // offered (joined to the room's world), instead of in a new map merged later. The room's two
 // look-alikes (a 90 deg one, one 1.8 m off) verify too and are refused by the IMU-carried guess.
-// Measured: tracking again 2 frames after the blackout, 0.9 cm from where the truth puts it
-// relative to the last frame before (12.7 cm dead-reckoned); final ATE 2.14 cm.
+// Measured: tracking again 2 frames after the blackout, 1.8 cm from where the truth puts it
+// relative to the last frame before (12.7 cm dead-reckoned); final ATE 2.61 cm. The same with
+// the local BA's first round stopped at 1e-4: its corrections once left the tracker a
+// dead-reckoned pose its frame-to-frame matching accepted 13 cm off, on 15 inliers, without
+// asking the atlas; after a loss the IMU cannot bridge the tracker no longer tracks from it.
 TEST(LoopDetection, AfterALongBlackoutTheAtlasPlacesTheLostTracker) {
-  sim::Scenario s = sim::load_scenario(HS_SOURCE_DIR "/config/sim/blackout.yaml");
-  s.duration_s = 34.0;
-  ASSERT_EQ(s.events.blackouts.size(), 1u);
-  s.events.blackouts[0] = {24'500'000'000, 29'000'000'000};
-  const LoopRun r = run(s);
-  EXPECT_EQ(r.tracker.atlas_relocalisations, 1);
-  EXPECT_EQ(r.counters.relocalisations, 1);
-  EXPECT_EQ(r.counters.maps_merged, 0);
-  EXPECT_LT(r.final_ate_m, 0.03);
+  for (const double screening : {1e-6, 1e-4}) {
+    SCOPED_TRACE("local BA screening_function_tolerance " + std::to_string(screening));
+    sim::Scenario s = sim::load_scenario(HS_SOURCE_DIR "/config/sim/blackout.yaml");
+    s.duration_s = 34.0;
+    ASSERT_EQ(s.events.blackouts.size(), 1u);
+    s.events.blackouts[0] = {24'500'000'000, 29'000'000'000};
+    const LoopRun r = run(s, true, false,
+                          [&](MapperOptions& o) { o.ba.screening_function_tolerance = screening; });
+    EXPECT_EQ(r.tracker.atlas_relocalisations, 1);
+    EXPECT_EQ(r.counters.relocalisations, 1);
+    EXPECT_EQ(r.counters.maps_merged, 0);
+    EXPECT_LT(r.final_ate_m, 0.03);
 
-  const int64_t start_ns = s.start_time_ns + s.events.blackouts[0].start_ns;
-  const int64_t end_ns = s.start_time_ns + s.events.blackouts[0].end_ns;
-  const FrameRecord* before = nullptr;
-  const FrameRecord* after = nullptr;
-  int frames_after = 0;
-  for (const FrameRecord& f : r.frames) {
-    if (f.t_ns < start_ns && f.state == TrackState::kTracking) before = &f;
-    if (f.t_ns <= end_ns) continue;
-    ++frames_after;
-    if (f.state == TrackState::kTracking) {
-      after = &f;
-      break;
+    const int64_t start_ns = s.start_time_ns + s.events.blackouts[0].start_ns;
+    const int64_t end_ns = s.start_time_ns + s.events.blackouts[0].end_ns;
+    const FrameRecord* before = nullptr;
+    const FrameRecord* after = nullptr;
+    int frames_after = 0;
+    for (const FrameRecord& f : r.frames) {
+      if (f.t_ns < start_ns && f.state == TrackState::kTracking) before = &f;
+      if (f.t_ns <= end_ns) continue;
+      ++frames_after;
+      if (f.state == TrackState::kTracking) {
+        after = &f;
+        break;
+      }
     }
+    ASSERT_TRUE(before && after);
+    EXPECT_LE(frames_after, 3) << "frames after the blackout before tracking again";
+    EXPECT_NE(after->map_id, 0) << "a stated jump: " << after->message;
+    const Eigen::Isometry3d moved = before->nav.T_w_b().inverse() * after->nav.T_w_b();
+    const Eigen::Isometry3d truth = truth_at(r.ground_truth, before->t_ns).T_w_b().inverse() *
+                                    truth_at(r.ground_truth, after->t_ns).T_w_b();
+    const double err_m = (moved.translation() - truth.translation()).norm();
+    EXPECT_LT(err_m, 0.03) << after->message;
+    std::printf(
+        "long blackout (screening %.0e): tracking again %d frames after it, in map id %d, %.1f cm "
+        "from the truth relative to before it; atlas requests %ld; final ATE %.2f cm\n",
+        screening, frames_after, after->map_id, err_m * 100,
+        static_cast<long>(r.tracker.atlas_requests), r.final_ate_m * 100);
   }
-  ASSERT_TRUE(before && after);
-  EXPECT_LE(frames_after, 3) << "frames after the blackout before tracking again";
-  EXPECT_NE(after->map_id, 0) << "a stated jump: " << after->message;
-  const Eigen::Isometry3d moved = before->nav.T_w_b().inverse() * after->nav.T_w_b();
-  const Eigen::Isometry3d truth = truth_at(r.ground_truth, before->t_ns).T_w_b().inverse() *
-                                  truth_at(r.ground_truth, after->t_ns).T_w_b();
-  const double err_m = (moved.translation() - truth.translation()).norm();
-  EXPECT_LT(err_m, 0.03) << after->message;
-  std::printf(
-      "long blackout: tracking again %d frames after it, in map id %d, %.1f cm from the truth "
-      "relative to before it; atlas requests %ld; final ATE %.2f cm\n",
-      frames_after, after->map_id, err_m * 100, static_cast<long>(r.tracker.atlas_requests),
-      r.final_ate_m * 100);
 }
 
 }  // namespace
