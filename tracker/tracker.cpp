@@ -194,64 +194,18 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
   NavState predicted = use_imu ? predict(last_->nav, pim, optimizer_.gravity())
                                : constant_velocity(last_->nav, frame.t_ns);
   predicted.t_ns = frame.t_ns;
-  const Eigen::Isometry3d T_w_c_pred = T_w_c0(predicted);
   timer.stage("imu_predict");
 
-  OrbFeatures features;
-  bool have_features = false;
+  std::optional<OrbFeatures> features;
   std::string why;
   // After a loss the IMU cannot bridge, its prediction is no prior to track from: frame-to-frame
   // matching near it found 15 inliers 13 cm off the truth (4.5 s blackout), where
   // relocalisation, with its stricter inlier count and its PnP, or the atlas, places the frame.
-  const int64_t lost_for_ns = frame.t_ns - last_tracked_t_ns_;
-  if (state_ == TrackState::kLost && lost_for_ns > options_.continue_map_within_ns) {
-    why = "lost for " + std::to_string(ns_to_s(lost_for_ns)).substr(0, 4) +
+  if (state_ == TrackState::kLost && lost_beyond_imu_bridge(frame.t_ns)) {
+    why = "lost for " + std::to_string(ns_to_s(frame.t_ns - last_tracked_t_ns_)).substr(0, 4) +
           " s, longer than the IMU bridges: no frame-to-frame tracking";
-  } else {
-    Correspondences corr;
-    TrackMethod method = TrackMethod::kDescriptors;
-    if (options_.descriptors == DescriptorMode::kHybrid) {
-      const std::optional<Eigen::Isometry3d> aligned = align_to_last(pyr, T_w_c_pred);
-      timer.stage("direct_align");
-      // Without the photometric refinement the prediction is the guess: search wider.
-      corr = direct_correspondences(pyr, aligned ? *aligned : T_w_c_pred,
-                                    aligned && use_imu ? options_.patch_search_radius_px
-                                                       : 3.0 * options_.patch_search_radius_px);
-      timer.stage("patch_align");
-      method = TrackMethod::kDirect;
-    }
-    if (corr.obs.size() < static_cast<size_t>(2 * options_.pose_opt.min_inliers)) {
-      // Every-frame mode, or the direct correspondences failed (Sec. 3.1.3): descriptors.
-      features = builder_.orb().extract(frame.cam0);
-      have_features = true;
-      timer.stage("orb_extract");
-      corr = descriptor_correspondences(features, T_w_c_pred);
-      timer.stage("descriptor_match");
-      method = TrackMethod::kDescriptors;
-    }
-
-    const PoseOptResult opt =
-        use_imu ? optimise(predicted, corr, pim) : optimise_vision_only(predicted, corr);
-    timer.stage("pose_opt");
-    if (opt.valid()) {
-      std::vector<TrackedObservation> tracked;
-      for (size_t i = 0; i < corr.obs.size(); ++i)
-        if (opt.inliers[i]) tracked.push_back({corr.point_ids[i], corr.obs[i].uv});
-      state_ = TrackState::kTracking;
-      lost_since_ns_ = -1;
-      r.method = method;
-      accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
-             have_features ? &features : nullptr, r, timer);
-      timer.stage("keyframe");
-      if (bootstrap_) {
-        advance_bootstrap(pim, r);
-      } else if (!options_.stereo && !mapper_present_) {
-        refine_scale(use_imu, r);
-        timer.stage("scale_check");
-      }
-      return r;
-    }
-    why = "tracking failed (" + opt.reason + ")";
+  } else if (track_from_prediction(frame, pyr, predicted, pim, use_imu, features, why, r, timer)) {
+    return r;
   }
 
   // Failure check fired (Algorithm 1): relocalise with the reference keyframe (Eq. 7), then
@@ -268,14 +222,14 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     bootstrap_.reset();
     why += "; vision-IMU alignment abandoned (gravity stays from the mean acceleration)";
   }
-  if (!have_features) features = builder_.orb().extract(frame.cam0);
+  if (!features) features = builder_.orb().extract(frame.cam0);
   RelocResult reloc;
   if (auto ref = map_.latest_keyframe()) {
-    reloc = relocaliser_.against_keyframe(*ref, features, predicted, map_);
+    reloc = relocaliser_.against_keyframe(*ref, *features, predicted, map_);
     r.method = TrackMethod::kRelocalisedReference;
   }
   if (!reloc.ok) {
-    reloc = relocaliser_.global(pyr.levels.back(), features, predicted, map_);
+    reloc = relocaliser_.global(pyr.levels.back(), *features, predicted, map_);
     r.method = TrackMethod::kRelocalisedGlobal;
   }
   timer.stage("relocalise");
@@ -302,7 +256,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     state_ = TrackState::kRelocalised;
     lost_since_ns_ = -1;
     r.map_id = map_id_;
-    accept(frame, std::move(pyr), nav, std::move(reloc.tracked), nullptr, &features, r, timer);
+    accept(frame, std::move(pyr), nav, std::move(reloc.tracked), nullptr, &*features, r, timer);
     timer.stage("keyframe");
     return r;
   }
@@ -334,7 +288,7 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
     }
   }
   if (frame.t_ns - lost_since_ns_ >= options_.reinit_after_lost_ns && frame.stereo()) {
-    const bool waiting = ask_atlas(frame, pyr, features, predicted, r);
+    const bool waiting = ask_atlas(frame, pyr, *features, predicted, r);
     if (!waiting) start_map_in_place(frame, pyr, predicted, r);
     timer.stage("reinitialise");
     if (state_ != TrackState::kLost) return r;
@@ -350,6 +304,57 @@ FrameResult Tracker::track_frame(const StereoFrame& frame_in) {
   lf.nav = predicted;
   last_ = std::move(lf);
   return r;
+}
+
+bool Tracker::track_from_prediction(const StereoFrame& frame, ImagePyramid& pyr,
+                                    const NavState& predicted, const ImuPreintegration& pim,
+                                    bool use_imu, std::optional<OrbFeatures>& features,
+                                    std::string& why, FrameResult& r, StageTimer& timer) {
+  const Eigen::Isometry3d T_w_c_pred = T_w_c0(predicted);
+  Correspondences corr;
+  TrackMethod method = TrackMethod::kDescriptors;
+  if (options_.descriptors == DescriptorMode::kHybrid) {
+    const std::optional<Eigen::Isometry3d> aligned = align_to_last(pyr, T_w_c_pred);
+    timer.stage("direct_align");
+    // Without the photometric refinement the prediction is the guess: search wider.
+    corr = direct_correspondences(pyr, aligned ? *aligned : T_w_c_pred,
+                                  aligned && use_imu ? options_.patch_search_radius_px
+                                                     : 3.0 * options_.patch_search_radius_px);
+    timer.stage("patch_align");
+    method = TrackMethod::kDirect;
+  }
+  if (corr.obs.size() < static_cast<size_t>(2 * options_.pose_opt.min_inliers)) {
+    // Every-frame mode, or the direct correspondences failed (Sec. 3.1.3): descriptors.
+    features = builder_.orb().extract(frame.cam0);
+    timer.stage("orb_extract");
+    corr = descriptor_correspondences(*features, T_w_c_pred);
+    timer.stage("descriptor_match");
+    method = TrackMethod::kDescriptors;
+  }
+
+  const PoseOptResult opt =
+      use_imu ? optimise(predicted, corr, pim) : optimise_vision_only(predicted, corr);
+  timer.stage("pose_opt");
+  if (opt.valid()) {
+    std::vector<TrackedObservation> tracked;
+    for (size_t i = 0; i < corr.obs.size(); ++i)
+      if (opt.inliers[i]) tracked.push_back({corr.point_ids[i], corr.obs[i].uv});
+    state_ = TrackState::kTracking;
+    lost_since_ns_ = -1;
+    r.method = method;
+    accept(frame, std::move(pyr), opt.state, std::move(tracked), &opt,
+           features ? &*features : nullptr, r, timer);
+    timer.stage("keyframe");
+    if (bootstrap_) {
+      advance_bootstrap(pim, r);
+    } else if (!options_.stereo && !mapper_present_) {
+      refine_scale(use_imu, r);
+      timer.stage("scale_check");
+    }
+    return true;
+  }
+  why = "tracking failed (" + opt.reason + ")";
+  return false;
 }
 
 void Tracker::advance_bootstrap(const ImuPreintegration& pim, FrameResult& r) {
@@ -891,7 +896,7 @@ void Tracker::restart_mono(FrameResult& r) {
 
 bool Tracker::loss_bridged(int64_t t_ns, const NavState& nav) const {
   const std::shared_ptr<Keyframe> last_kf = map_.latest_keyframe();
-  if (!last_kf || t_ns - last_tracked_t_ns_ > options_.continue_map_within_ns) return false;
+  if (!last_kf || lost_beyond_imu_bridge(t_ns)) return false;
   ImuBias bias;
   bias.gyro = nav.gyro_bias;
   bias.accel = nav.accel_bias;

@@ -119,6 +119,13 @@ class Tracker {
   };
 
   FrameResult track_frame(const StereoFrame& frame);
+  // Frame-to-frame tracking from the prediction (Algorithm 1: direct alignment, patch or
+  // descriptor correspondences, pose optimisation). True: the frame was accepted (pyr moved
+  // into it). False: `why` says what failed; `features` holds the ORB features if extracted.
+  bool track_from_prediction(const StereoFrame& frame, ImagePyramid& pyr, const NavState& predicted,
+                             const ImuPreintegration& pim, bool use_imu,
+                             std::optional<OrbFeatures>& features, std::string& why, FrameResult& r,
+                             StageTimer& timer);
   std::string validate(const StereoFrame& frame);
   void advance_bootstrap(const ImuPreintegration& pim, FrameResult& r);
   // Mono: scale, gravity, velocities and biases from cam0 poses known up to scale, the IMU
@@ -161,6 +168,10 @@ class Tracker {
   // The IMU carried the pose over the loss since the last tracked frame, without a gap, and
   // not for longer than continue_map_within_ns: a new local map continues the map.
   bool loss_bridged(int64_t t_ns, const NavState& nav) const;
+  // Longer since the last tracked frame than the IMU is trusted to carry the pose.
+  bool lost_beyond_imu_bridge(int64_t t_ns) const {
+    return t_ns - last_tracked_t_ns_ > options_.continue_map_within_ns;
+  }
   // Lost beyond what the IMU bridges, with a mapper: sends (or keeps) a request to its atlas.
   // True while the tracker should wait for the answer rather than start a new map.
   bool ask_atlas(const StereoFrame& frame, const ImagePyramid& pyr, const OrbFeatures& features,
