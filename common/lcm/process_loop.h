@@ -24,6 +24,15 @@ void handle_until_stopped(lcm::LCM& lcm, Poll&& poll) {
   }
 }
 
+// Handles the messages already received when a stop was asked for, for up to max_ms: a recorder
+// stopped right after the last message was sent still has it in its socket buffer.
+inline int drain_received(lcm::LCM& lcm, int max_ms) {
+  const int64_t end_ns = monotonic_ns() + int64_t{1'000'000} * max_ms;
+  int handled = 0;
+  while (monotonic_ns() < end_ns && lcm.handleTimeout(0) > 0) ++handled;
+  return handled;
+}
+
 // t_ns (host CLOCK_MONOTONIC), process, pid and state; queues and counters left empty.
 inline hsslam::heartbeat_t heartbeat_header(const std::string& process, int8_t state) {
   hsslam::heartbeat_t hb{};

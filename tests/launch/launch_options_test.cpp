@@ -20,6 +20,7 @@ TEST(LaunchOptions, ShippedSystemConfigLoads) {
   EXPECT_FALSE(o.processes[4].enabled);  // the replay
   EXPECT_TRUE(o.processes[4].required);
   EXPECT_EQ(o.processes[4].restart, RestartPolicy::kNever);
+  EXPECT_EQ(o.processes[4].start_after, (std::vector<std::string>{"logger", "mapper", "tracker"}));
   EXPECT_EQ(o.backoff.max_failures, 10);
 }
 
@@ -64,6 +65,13 @@ TEST(LaunchOptions, BrokenConfigsAreClearErrors) {
   TempYaml backoff(
       "restart:\n  delay_s: 2\n  max_delay_s: 1\nprocesses:\n  a:\n    command: [x]\n");
   expect_input_error([&] { load_launch_options(backoff.path()); }, {">= delay_s"});
+  TempYaml after_silent(
+      "processes:\n  a:\n    command: [x]\n  b:\n    command: [y]\n    start_after: [a]\n");
+  expect_input_error([&] { load_launch_options(after_silent.path()); },
+                     {"processes.b", "start_after: 'a' must be another process with a heartbeat"});
+  TempYaml after_unknown(
+      "processes:\n  a:\n    command: [x]\n    heartbeat: hs-a\n    start_after: [c]\n");
+  expect_input_error([&] { load_launch_options(after_unknown.path()); }, {"start_after: 'c'"});
 }
 
 TEST(LaunchOptions, OnlySelectsNamedProcessesEvenDisabledOnes) {
@@ -74,8 +82,9 @@ TEST(LaunchOptions, OnlySelectsNamedProcessesEvenDisabledOnes) {
   EXPECT_EQ(o.processes[1].name, "replay");
   EXPECT_TRUE(o.processes[1].enabled);
   LaunchOptions again = load_launch_options(HS_SOURCE_DIR "/config/system.yaml");
-  expect_input_error([&] { select_processes(again, {"trakcer"}); },
-                     {"no process named 'trakcer'", "known: logger, mapper, tracker, viewer, replay"});
+  expect_input_error(
+      [&] { select_processes(again, {"trakcer"}); },
+      {"no process named 'trakcer'", "known: logger, mapper, tracker, viewer, replay"});
 }
 
 }  // namespace

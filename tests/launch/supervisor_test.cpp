@@ -209,6 +209,37 @@ TEST(Supervisor, SilentHeartbeatMeansHungAndIsKilledAndRestarted) {
   ASSERT_TRUE(h.run_until([&] { return h.sup().done(); }));
 }
 
+TEST(Supervisor, StartAfterWaitsForTheHeartbeatOfEachRunAndIgnoresWhatDoesNotRun) {
+  ProcessSpec logger = shell("logger", "while :; do sleep 0.05; done");
+  logger.heartbeat = "hs-logger";
+  ProcessSpec replay = shell("replay", "while :; do sleep 0.05; done");
+  replay.start_after = {"logger", "viewer"};  // no viewer here: not waited for
+  RestartBackoff b;
+  b.initial_ns = 50 * kMs;
+  Harness h({logger, replay}, b);
+  h.sup().start(h.now());
+  for (int i = 0; i < 20; ++i) h.step();
+  EXPECT_EQ(h.proc(0).state, ProcessState::kRunning);
+  EXPECT_EQ(h.proc(1).state, ProcessState::kWaiting);
+  EXPECT_EQ(h.proc(1).starts, 0);
+  EXPECT_NE(h.events().find("replay: waiting for the HEARTBEAT of logger\n"), std::string::npos)
+      << h.events();
+  ASSERT_TRUE(h.sup().on_heartbeat(heartbeat(h.proc(0).pid, "hs-logger"), h.now()));
+  h.step();
+  EXPECT_EQ(h.proc(1).state, ProcessState::kRunning);
+  // The logger's next run must say it is up again before the replay's next start.
+  ::kill(h.proc(0).pid, SIGKILL);
+  ::kill(h.proc(1).pid, SIGKILL);
+  ASSERT_TRUE(h.run_until([&] { return h.proc(0).starts == 2 && h.proc(1).last_exit; }))
+      << h.events();
+  for (int i = 0; i < 20; ++i) h.step();
+  EXPECT_EQ(h.proc(1).starts, 1) << h.events();
+  ASSERT_TRUE(h.sup().on_heartbeat(heartbeat(h.proc(0).pid, "hs-logger"), h.now()));
+  ASSERT_TRUE(h.run_until([&] { return h.proc(1).starts == 2; })) << h.events();
+  h.sup().stop(SIGTERM, h.now());
+  ASSERT_TRUE(h.run_until([&] { return h.sup().done(); }));
+}
+
 TEST(Supervisor, ARequiredProcessEndingStopsTheOthers) {
   ProcessSpec replay = shell("replay", "sleep 0.2; exit 0");
   replay.restart = RestartPolicy::kNever;

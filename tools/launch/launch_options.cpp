@@ -1,5 +1,6 @@
 #include "tools/launch/launch_options.h"
 
+#include <algorithm>
 #include <cctype>
 #include <set>
 
@@ -27,6 +28,7 @@ ProcessSpec read_process(ConfigSection& s, const std::string& name) {
   s.read("heartbeat", p.heartbeat);
   s.read_seconds("start_delay_s", p.start_delay_ns);
   if (p.start_delay_ns < 0) s.fail("start_delay_s", "must be >= 0");
+  s.read("start_after", p.start_after);
   s.read_period("heartbeat_timeout_s", p.heartbeat_timeout_ns);
   s.read_period("stop_timeout_s", p.stop_timeout_ns);
   return p;
@@ -78,6 +80,15 @@ LaunchOptions load_launch_options(const std::string& path) {
     for (const std::string& name : s.keys()) {
       if (!valid_name(name)) s.fail(name, "a process name is letters, digits, '-' and '_'");
       s.section(name, [&](ConfigSection& p) { o.processes.push_back(read_process(p, name)); });
+    }
+    // A start_after that no HEARTBEAT can ever satisfy would wait forever: refused here.
+    for (const ProcessSpec& p : o.processes) {
+      for (const std::string& after : p.start_after) {
+        const auto it = std::find_if(o.processes.begin(), o.processes.end(),
+                                     [&](const ProcessSpec& q) { return q.name == after; });
+        if (it == o.processes.end() || it->name == p.name || it->heartbeat.empty())
+          s.fail(p.name, "start_after: '" + after + "' must be another process with a heartbeat");
+      }
     }
   });
   if (o.processes.empty()) top.fail("processes", "at least one process is needed");

@@ -18,9 +18,10 @@ struct ProcessSpec {
       command;          // argv; a bare argv[0] is looked up beside hs-launch, then in PATH
   bool enabled = true;  // started unless --only names others
   RestartPolicy restart = RestartPolicy::kOnFailure;
-  bool required = false;                         // when it ends for good, everything stops
-  int64_t start_delay_ns = 0;                    // first start this long after hs-launch's
-  std::string heartbeat;                         // its heartbeat_t.process; empty: sends none
+  bool required = false;                 // when it ends for good, everything stops
+  int64_t start_delay_ns = 0;            // first start this long after hs-launch's
+  std::vector<std::string> start_after;  // each start waits until these run and sent a HEARTBEAT
+  std::string heartbeat;                 // its heartbeat_t.process; empty: sends none
   int64_t heartbeat_timeout_ns = 5'000'000'000;  // silent this long: hung, killed, restarted
   int64_t stop_timeout_ns = 5'000'000'000;       // SIGKILL this long after the stop signal
 };

@@ -1,5 +1,6 @@
 #include "tools/launch/supervisor.h"
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -17,9 +18,9 @@ std::string seconds_text(int64_t ns) {
   return buf;
 }
 
-std::string join(const std::vector<std::string>& parts) {
+std::string join(const std::vector<std::string>& parts, const char* separator = " ") {
   std::string out;
-  for (const std::string& p : parts) out += (out.empty() ? "" : " ") + p;
+  for (const std::string& p : parts) out += (out.empty() ? "" : separator) + p;
   return out;
 }
 
@@ -60,6 +61,18 @@ Supervisor::Supervisor(LaunchOptions options, const std::string& program_dir)
     p.backoff_ns = options_.backoff.initial_ns;
     processes_.push_back(std::move(p));
   }
+  // Only the processes that run are waited for (a replay with --only logger replay).
+  for (SupervisedProcess& p : processes_) {
+    std::vector<std::string>& after = p.spec.start_after;
+    after.erase(std::remove_if(after.begin(), after.end(),
+                               [&](const std::string& name) {
+                                 return std::none_of(processes_.begin(), processes_.end(),
+                                                     [&](const SupervisedProcess& q) {
+                                                       return q.spec.name == name;
+                                                     });
+                               }),
+                after.end());
+  }
   std::error_code ec;
   std::filesystem::create_directories(options_.log_dir, ec);
   if (ec) throw InputError(options_.log_dir, "cannot create the log directory: " + ec.message());
@@ -77,6 +90,17 @@ void Supervisor::event(const SupervisedProcess& p, const std::string& what) {
 
 std::vector<std::string> Supervisor::take_events() {
   return std::exchange(events_, {});
+}
+
+std::string Supervisor::awaited(const SupervisedProcess& p) const {
+  std::vector<std::string> names;
+  for (const std::string& after : p.spec.start_after) {
+    for (const SupervisedProcess& q : processes_) {
+      if (q.spec.name == after && !(q.state == ProcessState::kRunning && q.heartbeat.received_ns))
+        names.push_back(after);
+    }
+  }
+  return join(names, ", ");
 }
 
 void Supervisor::launch(SupervisedProcess& p, int64_t now_ns) {
@@ -171,8 +195,16 @@ void Supervisor::tick(int64_t now_ns) {
       p.killed = true;
       signal_group(p.pid, SIGKILL);
     }
-    if (p.state == ProcessState::kWaiting && !stopping_ && now_ns >= p.next_start_ns)
-      launch(p, now_ns);
+    if (p.state == ProcessState::kWaiting && !stopping_ && now_ns >= p.next_start_ns) {
+      const std::string missing = awaited(p);
+      if (missing.empty()) {
+        p.waiting_reported = false;
+        launch(p, now_ns);
+      } else if (!p.waiting_reported) {
+        p.waiting_reported = true;
+        event(p, "waiting for the HEARTBEAT of " + missing);
+      }
+    }
   }
 }
 

@@ -41,6 +41,7 @@ struct SupervisedProcess {
   pid_t pid = 0;
   int64_t started_ns = 0;
   int64_t next_start_ns = 0;
+  bool waiting_reported = false;  // "waiting for ..." said for the pending start
   int64_t stop_deadline_ns = 0;
   bool killed = false;  // SIGKILL sent in this run (hung, or did not stop)
   bool hung = false;    // killed because its HEARTBEAT fell silent
@@ -75,6 +76,8 @@ class Supervisor {
 
  private:
   void launch(SupervisedProcess& p, int64_t now_ns);
+  // The start_after processes not yet running with a HEARTBEAT, as "a, b"; empty: none.
+  std::string awaited(const SupervisedProcess& p) const;
   void on_exit(SupervisedProcess& p, const ExitStatus& status, int64_t now_ns);
   void schedule_restart(SupervisedProcess& p, bool failed, int64_t now_ns);
   void event(const SupervisedProcess& p, const std::string& what);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -177,18 +178,28 @@ TEST_F(LaunchProcess, ARequiredReplayEndsTheRunAndTheLoggerRecordedAllOfIt) {
   auto launcher = launch(
       header(0) + "processes:\n" + "  logger:\n    command: [hs-logger, --dir, " + dir_ +
       "/logs]\n" + "    heartbeat: hs-logger\n" + "  replay:\n    command: [lcm-logplayer, " + log +
-      "]\n" + "    restart: never\n    required: true\n    start_delay_s: 1.5\n");
+      "]\n" + "    restart: never\n    required: true\n    start_after: [logger]\n");
   ASSERT_TRUE(test::wait_for([&] { return !launcher->running(); }, 20)) << launcher->output();
   EXPECT_EQ(launcher->wait(), 0) << launcher->output();
   EXPECT_TRUE(contains(launcher->output(), "replay: required process ended: stopping all"))
       << launcher->output();
-  int replayed = 0;
-  for (const auto& entry : fs::directory_iterator(dir_ + "/logs")) {
-    if (entry.path().extension() != ".lcmlog") continue;
-    lcm::LogFile file(entry.path().string(), "r");
-    while (const lcm::LogEvent* e = file.readNextEvent()) replayed += e->channel == "REPLAYED";
+  // The replay started once the logger had subscribed, and the logger wrote what it had received
+  // before the stop: every event, in order.
+  std::vector<std::string> files;  // named by their start time
+  for (const auto& entry : fs::directory_iterator(dir_ + "/logs"))
+    if (entry.path().extension() == ".lcmlog") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  std::string replayed;
+  for (const std::string& path : files) {
+    lcm::LogFile file(path, "r");
+    while (const lcm::LogEvent* e = file.readNextEvent()) {
+      if (e->channel == "REPLAYED")
+        replayed += std::string(static_cast<const char*>(e->data), e->datalen) + "\n";
+    }
   }
-  EXPECT_EQ(replayed, kEvents);
+  std::string expected;
+  for (int i = 0; i < kEvents; ++i) expected += "event " + std::to_string(i) + "\n";
+  EXPECT_EQ(replayed, expected) << launcher->output();
 }
 
 TEST_F(LaunchProcess, ForwardsUsr1AndAHangupStopsEverythingWithSigterm) {

@@ -1,6 +1,7 @@
 // hs-logger as a process over udpm on loopback: what it records after a kill -9 (all but the
 // last flush period), after a simulated power cut (a truncated file: the torn event is found
-// and skipped), and that stock lcm-logplayer replays its files.
+// and skipped), that stock lcm-logplayer replays its files, and that a stop loses nothing that
+// had arrived.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -153,6 +154,28 @@ TEST_F(LoggerProcess, ACleanStopWritesTheManifestAndLcmLogplayerReplaysTheFile) 
       20))
       << "received " << received << " of " << sent << "; " << player.output();
   player.wait();
+}
+
+TEST_F(LoggerProcess, WhatArrivedBeforeTheStopIsRecorded) {
+  auto logger = start_logger();
+  // Frozen, the logger leaves the messages in its socket buffer; SIGTERM then reaches it before
+  // it has handled any of them.
+  logger->signal(SIGSTOP);
+  lcm::LCM pub(url_);
+  ASSERT_TRUE(pub.good());
+  constexpr int kSent = 20;
+  for (int seq = 0; seq < kSent; ++seq) {
+    hsslam::odometry_t m{};
+    m.seq = seq;
+    pub.publish("POSE", &m);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  logger->signal(SIGTERM);
+  logger->signal(SIGCONT);
+  EXPECT_EQ(logger->wait(), 0) << logger->output();
+  const std::vector<std::string> files = log_files();
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_EQ(count_channel(scan_log_file(files[0]).events, "POSE"), kSent) << logger->output();
 }
 
 }  // namespace
