@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -15,8 +16,8 @@
 namespace hs {
 namespace {
 
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("LocalBundleAdjuster: " + what);
+[[noreturn]] void fail(const std::string& what) {
+  throw std::invalid_argument("LocalBundleAdjuster: " + what);
 }
 
 bool finite(const NavState& s) {
@@ -29,16 +30,18 @@ template <class T>
 std::unordered_map<int64_t, size_t> index_ids(const std::vector<T>& items, const char* kind) {
   std::unordered_map<int64_t, size_t> index;
   for (size_t k = 0; k < items.size(); ++k) {
-    require(index.emplace(items[k].id, k).second,
-            std::string("duplicate ") + kind + " id " + std::to_string(items[k].id));
+    if (!index.emplace(items[k].id, k).second)
+      fail(std::string("duplicate ") + kind + " id " + std::to_string(items[k].id));
   }
   return index;
 }
 
-size_t lookup(const std::unordered_map<int64_t, size_t>& index, int64_t id,
-              const std::string& who) {
+// `who()` names the referrer; messages are built only on failure (a window has thousands of
+// observations).
+template <class Who>
+size_t lookup(const std::unordered_map<int64_t, size_t>& index, int64_t id, const Who& who) {
   const auto it = index.find(id);
-  require(it != index.end(), who + " refers to unknown id " + std::to_string(id));
+  if (it == index.end()) fail(who() + " refers to unknown id " + std::to_string(id));
   return it->second;
 }
 
@@ -54,35 +57,37 @@ ceres::Problem::Options borrowing_problem_options() {
 }  // namespace
 
 LocalBaIndex resolve_local_ba_input(const LocalBaInput& in) {
-  require(in.gravity.g_w.allFinite() && in.gravity.g_w.norm() > 0.0 &&
-              std::isfinite(in.gravity.prior_sigma_rad),
-          "gravity is zero or not finite");
+  if (!(in.gravity.g_w.allFinite() && in.gravity.g_w.norm() > 0.0 &&
+        std::isfinite(in.gravity.prior_sigma_rad)))
+    fail("gravity is zero or not finite");
   const auto kf_index = index_ids(in.keyframes, "keyframe");
   const auto pt_index = index_ids(in.points, "point");
   for (const BaKeyframe& kf : in.keyframes) {
-    require(finite(kf.state), "keyframe " + std::to_string(kf.id) + " has a non-finite state");
+    if (!finite(kf.state)) fail("keyframe " + std::to_string(kf.id) + " has a non-finite state");
   }
   for (const BaPoint& pt : in.points) {
-    require(pt.p_w.allFinite(), "point " + std::to_string(pt.id) + " is not finite");
+    if (!pt.p_w.allFinite()) fail("point " + std::to_string(pt.id) + " is not finite");
   }
   LocalBaIndex index;
+  index.obs_keyframe.reserve(in.observations.size());
+  index.obs_point.reserve(in.observations.size());
   for (size_t k = 0; k < in.observations.size(); ++k) {
     const BaObservation& obs = in.observations[k];
-    const std::string who = "observation " + std::to_string(k);
+    const auto who = [k] { return "observation " + std::to_string(k); };
     index.obs_keyframe.push_back(lookup(kf_index, obs.keyframe_id, who));
     index.obs_point.push_back(lookup(pt_index, obs.point_id, who));
-    require(obs.camera == 0 || obs.camera == 1, who + " has camera index not 0 or 1");
-    require(obs.uv.allFinite(), who + " has a non-finite pixel");
-    require(std::isfinite(obs.sigma_px) && obs.sigma_px > 0.0, who + " has sigma_px <= 0");
+    if (obs.camera != 0 && obs.camera != 1) fail(who() + " has camera index not 0 or 1");
+    if (!obs.uv.allFinite()) fail(who() + " has a non-finite pixel");
+    if (!(std::isfinite(obs.sigma_px) && obs.sigma_px > 0.0)) fail(who() + " has sigma_px <= 0");
   }
   for (size_t k = 0; k < in.imu_factors.size(); ++k) {
     const BaImuFactor& f = in.imu_factors[k];
-    const std::string who = "IMU factor " + std::to_string(k);
+    const auto who = [k] { return "IMU factor " + std::to_string(k); };
     const size_t i = lookup(kf_index, f.keyframe_i, who);
     const size_t j = lookup(kf_index, f.keyframe_j, who);
-    require(f.pim.t0_ns() == in.keyframes[i].state.t_ns &&
-                f.pim.t1_ns() == in.keyframes[j].state.t_ns && j != i,
-            who + " does not span its keyframes' times");
+    if (f.pim.t0_ns() != in.keyframes[i].state.t_ns ||
+        f.pim.t1_ns() != in.keyframes[j].state.t_ns || j == i)
+      fail(who() + " does not span its keyframes' times");
     index.imu_pairs.emplace_back(i, j);
   }
   return index;
@@ -95,6 +100,7 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
       index_(index),
       storage_(input.keyframes.size() * kKeyframeSize + 3 + 3 * input.points.size()),
       huber_(std::sqrt(options.chi2_threshold)),
+      cameras_{RigCamera(calib.cam0), RigCamera(calib.cam1)},
       problem_(borrowing_problem_options()) {
   for (size_t k = 0; k < input.keyframes.size(); ++k) {
     state_to_blocks(input.keyframes[k].state, pose(k), speed_bias(k));
@@ -103,24 +109,31 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
   for (size_t k = 0; k < input.points.size(); ++k)
     Eigen::Map<Eigen::Vector3d>{point(k)} = input.points[k].p_w;
   Eigen::Map<Eigen::Vector3d>{gravity_block()} = input.gravity.g_w;
-  add_visual_terms(calib);
+  add_visual_terms();
   add_inertial_terms();
   fix_gauge();
   configure_solver();
 }
 
-void LocalBaProblem::add_visual_terms(const StereoCalib& calib) {
-  const RigCamera cameras[2] = {RigCamera(calib.cam0), RigCamera(calib.cam1)};
+void LocalBaProblem::add_visual_terms() {
   const size_t n = input_.observations.size();
+  std::vector<size_t> by_point(n);
+  std::iota(by_point.begin(), by_point.end(), size_t{0});
+  std::stable_sort(by_point.begin(), by_point.end(),
+                   [&](size_t a, size_t b) { return index_.obs_point[a] < index_.obs_point[b]; });
   reprojection_.resize(n);
+  for (const size_t k : by_point) {
+    const BaObservation& obs = input_.observations[k];
+    reprojection_[k] = &reprojection_costs_.emplace_back(cameras_[obs.camera], obs.uv, obs.sigma_px,
+                                                         options_.min_depth_m);
+  }
+  // Added in the input's order: Ceres keeps it within each point's rows, and the rounding of the
+  // solve with it.
   reprojection_block_.assign(n, nullptr);
   for (size_t k = 0; k < n; ++k) {
-    const BaObservation& obs = input_.observations[k];
-    reprojection_[k] = std::make_unique<ReprojectionCost>(cameras[obs.camera], obs.uv, obs.sigma_px,
-                                                          options_.min_depth_m);
     if (!std::isfinite(chi2(k))) continue;
     reprojection_block_[k] = problem_.AddResidualBlock(
-        reprojection_[k].get(), &huber_, pose(index_.obs_keyframe[k]), point(index_.obs_point[k]));
+        reprojection_[k], &huber_, pose(index_.obs_keyframe[k]), point(index_.obs_point[k]));
   }
   for (size_t k = 0; k < input_.points.size(); ++k) {
     if (input_.points[k].fixed && problem_.HasParameterBlock(point(k))) {

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstddef>
+#include <deque>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -49,7 +50,7 @@ class LocalBaProblem {
                 Eigen::Vector3d* g_w) const;
 
  private:
-  void add_visual_terms(const StereoCalib& calib);
+  void add_visual_terms();
   void add_inertial_terms();
   void fix_gauge();
   void configure_solver();
@@ -77,7 +78,11 @@ class LocalBaProblem {
   PoseManifold pose_manifold_;
   ceres::SphereManifold<3> gravity_manifold_;
   ceres::HuberLoss huber_;
-  std::vector<std::unique_ptr<ReprojectionCost>> reprojection_;
+  RigCamera cameras_[2];
+  // Built point by point, the order in which Ceres' Schur ordering evaluates them: consecutive
+  // costs are then neighbours in memory (a deque never moves them).
+  std::deque<ReprojectionCost> reprojection_costs_;
+  std::vector<ReprojectionCost*> reprojection_;             // per observation
   std::vector<ceres::ResidualBlockId> reprojection_block_;  // null when not in the problem
   std::vector<std::unique_ptr<ceres::CostFunction>> inertial_;
   ceres::Problem problem_;

@@ -107,7 +107,8 @@ TEST(LocalBaJacobians, ReprojectionMatchesFiniteDifferences) {
     // A point off the optical axis, where the distortion matters.
     const Eigen::Vector3d p_c(1.2, -0.8, 3.0);
     const Eigen::Vector3d p_w = state.T_w_b() * c.T_b_c * p_c;
-    const ReprojectionCost cost(RigCamera(c), Eigen::Vector2d(300.0, 200.0), 1.5, 0.05);
+    const RigCamera camera(c);
+    const ReprojectionCost cost(camera, Eigen::Vector2d(300.0, 200.0), 1.5, 0.05);
     expect_jacobians_match(cost, {blocks_of(state).first, {p_w.x(), p_w.y(), p_w.z()}},
                            {true, false}, 1e-5);
   }
