@@ -30,12 +30,12 @@ LocalBaResult LocalBundleAdjuster::optimise(const LocalBaInput& input) const {
     if (round > 0) problem.drop_outliers(options_.chi2_threshold);
     if (!problem.has_terms()) break;
     const bool screening = round + 1 < num_rounds;
-    const ceres::Solver::Summary summary =
+    const SchurLmSummary summary =
         problem.solve(cpu_deadline_s, screening ? options_.screening_function_tolerance
                                                 : options_.function_tolerance);
     if (round == 0) result.stats.initial_cost = summary.initial_cost;
     result.stats.final_cost = summary.final_cost;
-    result.stats.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+    result.stats.iterations += summary.successful_steps + summary.unsuccessful_steps;
     ++result.stats.rounds;
   }
 

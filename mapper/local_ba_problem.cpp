@@ -232,14 +232,32 @@ class CpuDeadline : public ceres::IterationCallback {
 
 }  // namespace
 
-ceres::Solver::Summary LocalBaProblem::solve(double cpu_deadline_s, double function_tolerance) {
+SchurLmSummary LocalBaProblem::solve(double cpu_deadline_s, double function_tolerance) {
+  // Without points the problem is an inertial chain (the IMU refinement: up to 150 keyframes),
+  // banded, which Ceres solves sparse.
+  if (options_.solver == LocalBaOptions::Solver::kSchurLm && !options_.sparse &&
+      !input_.points.empty()) {
+    SchurLmOptions lm;
+    lm.max_iterations = options_.iterations_per_round;
+    lm.function_tolerance = function_tolerance;
+    lm.keep_going = [cpu_deadline_s] { return thread_cpu_s() < cpu_deadline_s; };
+    const double* first_point = point(0);
+    return solve_schur_lm(
+        problem_, [first_point](const double* x) { return x >= first_point; }, lm);
+  }
   CpuDeadline deadline(cpu_deadline_s);
   ceres::Solver::Options options = solver_options_;
   options.function_tolerance = function_tolerance;
   options.callbacks.push_back(&deadline);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem_, &summary);
-  return summary;
+  SchurLmSummary out;
+  out.usable = summary.IsSolutionUsable();
+  out.initial_cost = summary.initial_cost;
+  out.final_cost = summary.final_cost;
+  out.successful_steps = summary.num_successful_steps;
+  out.unsuccessful_steps = summary.num_unsuccessful_steps;
+  return out;
 }
 
 double LocalBaProblem::chi2(size_t k) const {

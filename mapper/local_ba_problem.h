@@ -16,6 +16,7 @@
 #include "mapper/local_ba.h"
 #include "mapper/pose_manifold.h"
 #include "mapper/reprojection_cost.h"
+#include "mapper/schur_lm.h"
 
 namespace hs {
 
@@ -39,7 +40,7 @@ class LocalBaProblem {
   // At most options.iterations_per_round iterations, stopping at function_tolerance (the round's
   // own: see LocalBaOptions); none begins once the calling thread's CPU time (thread_cpu_s) has
   // passed cpu_deadline_s.
-  ceres::Solver::Summary solve(double cpu_deadline_s, double function_tolerance);
+  SchurLmSummary solve(double cpu_deadline_s, double function_tolerance);
   // Whitened squared reprojection error of observation k at the current estimate; infinity
   // when it cannot be projected.
   double chi2(size_t k) const;

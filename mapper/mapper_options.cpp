@@ -49,6 +49,12 @@ MapperConfig load_mapper_config(const std::string& path) {
     if (!(b.screening_function_tolerance > 0 && b.screening_function_tolerance < 1))
       s.fail("screening_function_tolerance", "must be in (0, 1)");
     s.read("reject_outliers", b.reject_outliers);
+    std::string solver = b.solver == LocalBaOptions::Solver::kCeres ? "ceres" : "schur_lm";
+    s.read("solver", solver);
+    if (solver != "ceres" && solver != "schur_lm")
+      s.fail("solver", "must be ceres or schur_lm, not '" + solver + "'");
+    b.solver =
+        solver == "ceres" ? LocalBaOptions::Solver::kCeres : LocalBaOptions::Solver::kSchurLm;
     s.read("time_budget_ms", b.time_budget_ms);
     s.read("chi2_threshold", b.chi2_threshold);
     s.read("min_depth_m", b.min_depth_m);

@@ -195,7 +195,8 @@ double inlier_rms_px(const StereoCalib& calib, const test::BaScene& scene,
   return std::sqrt(sum / n);
 }
 
-class LocalBaScene : public ::testing::Test {
+// Every scene test runs with both solvers (LocalBaOptions::solver).
+class LocalBaScene : public ::testing::TestWithParam<LocalBaOptions::Solver> {
  protected:
   test::BaScene make(const test::BaSceneOptions& options, int num_fixed) {
     std::mt19937 rng(seed_);
@@ -234,16 +235,17 @@ class LocalBaScene : public ::testing::Test {
 
   const StereoCalib calib_ = euroc_stereo_calib();
   // No time limit: the outcome must not depend on the machine (sanitizer builds are slow).
-  LocalBaOptions options_ = [] {
+  LocalBaOptions options_ = [this] {
     LocalBaOptions o;
     o.time_budget_ms = 1e9;
+    o.solver = GetParam();
     return o;
   }();
   LocalBaInput truth_;
   unsigned seed_ = 7;
 };
 
-TEST_F(LocalBaScene, StereoInertialWindowConverges) {
+TEST_P(LocalBaScene, StereoInertialWindowConverges) {
   const test::BaScene scene = make({}, 1);
   ASSERT_GT(scene.input.observations.size(), 2000u);
   const LocalBaResult result = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
@@ -267,7 +269,7 @@ TEST_F(LocalBaScene, StereoInertialWindowConverges) {
   EXPECT_EQ(result.keyframes[0].state.v_w, truth_.keyframes[0].state.v_w);
 }
 
-TEST_F(LocalBaScene, TiltedGravityDirectionIsEstimated) {
+TEST_P(LocalBaScene, TiltedGravityDirectionIsEstimated) {
   // The world was levelled with a biased accelerometer: gravity is 1 deg off the assumed one.
   test::BaScene scene = make({}, 1);
   const Eigen::Vector3d tilted =
@@ -291,7 +293,7 @@ TEST_F(LocalBaScene, TiltedGravityDirectionIsEstimated) {
   EXPECT_GT(e_held.max_accel_bias, 2.0 * e_estimated.max_accel_bias);
 }
 
-TEST_F(LocalBaScene, InertialOnlyOnHeldPosesFindsGravityVelocitiesAndBiases) {
+TEST_P(LocalBaScene, InertialOnlyOnHeldPosesFindsGravityVelocitiesAndBiases) {
   // The mapper's IMU refinement: no points, the poses where the visual BA put them (here the
   // truth), gravity 1 deg off, velocities 0.1 m/s off and biases unknown.
   test::BaSceneOptions o;
@@ -319,7 +321,7 @@ TEST_F(LocalBaScene, InertialOnlyOnHeldPosesFindsGravityVelocitiesAndBiases) {
   EXPECT_LT(e.max_accel_bias, 0.02);
 }
 
-TEST_F(LocalBaScene, WithoutFixedKeyframesTheOldestPoseIsHeld) {
+TEST_P(LocalBaScene, WithoutFixedKeyframesTheOldestPoseIsHeld) {
   test::BaScene scene = make({}, 0);
   // The oldest keyframe starts at the truth (its pose fixes the gauge), listed last.
   scene.input.keyframes.front().state.q_w_b = truth_.keyframes.front().state.q_w_b;
@@ -343,7 +345,7 @@ TEST_F(LocalBaScene, WithoutFixedKeyframesTheOldestPoseIsHeld) {
   expect_outliers_found(scene, result);
 }
 
-TEST_F(LocalBaScene, MonocularInertialWindowConverges) {
+TEST_P(LocalBaScene, MonocularInertialWindowConverges) {
   test::BaSceneOptions options;
   options.stereo = false;
   const test::BaScene scene = make(options, 2);
@@ -354,7 +356,7 @@ TEST_F(LocalBaScene, MonocularInertialWindowConverges) {
   expect_outliers_found(scene, result);
 }
 
-TEST_F(LocalBaScene, StereoWithoutImuConvergesAndFixedPointsStay) {
+TEST_P(LocalBaScene, StereoWithoutImuConvergesAndFixedPointsStay) {
   test::BaSceneOptions options;
   options.with_imu = false;
   test::BaScene scene = make(options, 1);
@@ -375,7 +377,7 @@ TEST_F(LocalBaScene, StereoWithoutImuConvergesAndFixedPointsStay) {
   }
 }
 
-TEST_F(LocalBaScene, SingleRoundWithoutRejectionStillFlagsOutliers) {
+TEST_P(LocalBaScene, SingleRoundWithoutRejectionStillFlagsOutliers) {
   const test::BaScene scene = make({}, 1);
   options_.reject_outliers = false;
   const LocalBaResult result = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
@@ -385,7 +387,7 @@ TEST_F(LocalBaScene, SingleRoundWithoutRejectionStillFlagsOutliers) {
   EXPECT_LT(state_errors(result.keyframes, truth_.keyframes).max_translation_m, 0.02);
 }
 
-TEST_F(LocalBaScene, KeyframesAndPointsWithoutTermsAreLeftAsTheyAre) {
+TEST_P(LocalBaScene, KeyframesAndPointsWithoutTermsAreLeftAsTheyAre) {
   test::BaScene scene = make({}, 1);
   BaKeyframe lone = scene.input.keyframes.back();
   lone.id = 999;
@@ -398,7 +400,7 @@ TEST_F(LocalBaScene, KeyframesAndPointsWithoutTermsAreLeftAsTheyAre) {
   EXPECT_LT(state_errors(result.keyframes, truth_.keyframes).max_translation_m, 0.01);
 }
 
-TEST_F(LocalBaScene, ImuOnlyWindowAndEmptyInput) {
+TEST_P(LocalBaScene, ImuOnlyWindowAndEmptyInput) {
   test::BaScene scene = make({}, 1);
   scene.input.observations.clear();
   const LocalBaResult result = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
@@ -411,7 +413,7 @@ TEST_F(LocalBaScene, ImuOnlyWindowAndEmptyInput) {
   EXPECT_TRUE(empty.keyframes.empty());
 }
 
-TEST_F(LocalBaScene, ExhaustedTimeBudgetReturnsTheInitialEstimate) {
+TEST_P(LocalBaScene, ExhaustedTimeBudgetReturnsTheInitialEstimate) {
   const test::BaScene scene = make({}, 1);
   options_.time_budget_ms = 0.0;
   const LocalBaResult result = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
@@ -441,7 +443,7 @@ cpu_set_t pin_to_one_cpu() {
 // solve to about four times its CPU time, past a budget of 2.5 times it, and it still runs every
 // iteration (a wall-clock budget would cut it), while a budget below its CPU time stops it early.
 // Sharing one pinned CPU makes the contention certain on any core count and host load.
-TEST_F(LocalBaScene, TimeBudgetCountsTheSolversCpuTimeNotTheWait) {
+TEST_P(LocalBaScene, TimeBudgetCountsTheSolversCpuTimeNotTheWait) {
   const test::BaScene scene = make({}, 1);
   options_.time_budget_ms = 1e9;
   const LocalBaResult full = LocalBundleAdjuster(calib_, options_).optimise(scene.input);
@@ -470,7 +472,7 @@ TEST_F(LocalBaScene, TimeBudgetCountsTheSolversCpuTimeNotTheWait) {
   EXPECT_LT(cut.stats.iterations, full.stats.iterations);
 }
 
-TEST_F(LocalBaScene, MalformedInputIsRejected) {
+TEST_P(LocalBaScene, MalformedInputIsRejected) {
   const test::BaScene scene = make({}, 1);
   const LocalBundleAdjuster ba(calib_, options_);
   const auto expect_rejected = [&](const char* what, const auto& change) {
@@ -495,6 +497,14 @@ TEST_F(LocalBaScene, MalformedInputIsRejected) {
   expect_rejected("IMU factor between the wrong keyframes",
                   [](LocalBaInput* in) { in->imu_factors[0].keyframe_j = in->keyframes[2].id; });
 }
+
+INSTANTIATE_TEST_SUITE_P(Solvers, LocalBaScene,
+                         ::testing::Values(LocalBaOptions::Solver::kCeres,
+                                           LocalBaOptions::Solver::kSchurLm),
+                         [](const ::testing::TestParamInfo<LocalBaOptions::Solver>& info) {
+                           return info.param == LocalBaOptions::Solver::kCeres ? "Ceres"
+                                                                               : "SchurLm";
+                         });
 
 }  // namespace
 }  // namespace hs

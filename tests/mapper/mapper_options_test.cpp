@@ -19,6 +19,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.graph.max_fixed_keyframes, d.graph.max_fixed_keyframes);
   EXPECT_EQ(c.mapper.ba.function_tolerance, d.ba.function_tolerance);
   EXPECT_EQ(c.mapper.ba.screening_function_tolerance, d.ba.screening_function_tolerance);
+  EXPECT_EQ(c.mapper.ba.solver, d.ba.solver);
   EXPECT_NEAR(c.mapper.window_gravity_sigma_rad, d.window_gravity_sigma_rad, 1e-15);
   EXPECT_NEAR(c.mapper.window_gravity_mono_sigma_rad, d.window_gravity_mono_sigma_rad, 1e-15);
   EXPECT_EQ(c.mapper.inertial.every_keyframes, d.inertial.every_keyframes);
@@ -79,6 +80,11 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
 
   const TempYaml unknown("mapper:\n  pixel_sigm: 0.5\n");
   expect_input_error([&] { load_mapper_config(unknown.path()); }, {"pixel_sigm", "pixel_sigma"});
+  const TempYaml solver("local_ba:\n  solver: ceres\n");
+  EXPECT_EQ(load_mapper_config(solver.path()).mapper.ba.solver, LocalBaOptions::Solver::kCeres);
+  const TempYaml bad_solver("local_ba:\n  solver: gauss\n");
+  expect_input_error([&] { load_mapper_config(bad_solver.path()); },
+                     {"local_ba.solver", "ceres or schur_lm", "gauss"});
   const TempYaml far("mapper:\n  far_point_disparity_px: 0\n");
   EXPECT_EQ(load_mapper_config(far.path()).mapper.far_point_disparity_px, 0.0);
   const TempYaml negative("mapper:\n  pixel_sigma: -1\n");
