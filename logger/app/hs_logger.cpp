@@ -22,7 +22,8 @@ DIR/PREFIX-YYYYmmdd-HHMMSS-NNNN.lcmlog, rotated by size and age, each closed fil
 FILE.manifest.json (channels, counts, time span, messages lost upstream by seq gaps). Buffered
 events are written and fdatasync'ed every flush period (50 ms by default): a kill -9 or power cut
 loses at most that. Below the disk guard's free space it stops (or deletes its own oldest files)
-and says so on HEARTBEAT. Stops on SIGINT/SIGTERM after writing what it had already received\n(for up to 0.5 s) and closing the file.
+and says so on HEARTBEAT. Stops on SIGINT/SIGTERM after writing what it had already received
+(for up to 0.5 s) and closing the file.
 --check FILE...: reads log files as a player would, skipping a torn last event (after a crash)
 and damaged regions, and prints what they hold as JSON (exit 1 if a file cannot be read).)";
 
