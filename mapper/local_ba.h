@@ -39,7 +39,7 @@ struct LocalBaOptions {
   // keyframes share no point and a dense one would be cubic in their number.
   bool sparse = false;
   // Ceres' Levenberg-Marquardt, or the same step control in mapper/schur_lm.h, which skips
-  // Ceres' general machinery (0.75x the CPU time in hs-bench-local-ba). Ceres still solves the
+  // Ceres' general machinery (0.4x the CPU time in hs-bench-local-ba). Ceres still solves the
   // `sparse` problems and those without points (inertial chains).
   enum class Solver { kCeres, kSchurLm } solver = Solver::kSchurLm;
 };

@@ -101,10 +101,13 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
       storage_(input.keyframes.size() * kKeyframeSize + 3 + 3 * input.points.size()),
       huber_(std::sqrt(options.chi2_threshold)),
       cameras_{RigCamera(calib.cam0), RigCamera(calib.cam1)},
-      problem_(borrowing_problem_options()) {
+      use_lm_(options.solver == LocalBaOptions::Solver::kSchurLm && !options.sparse &&
+              !input.points.empty()),
+      lm_([first_point = point(0)](const double* x) { return x >= first_point; }) {
+  if (!use_lm_) problem_ = std::make_unique<ceres::Problem>(borrowing_problem_options());
   for (size_t k = 0; k < input.keyframes.size(); ++k) {
     state_to_blocks(input.keyframes[k].state, pose(k), speed_bias(k));
-    problem_.AddParameterBlock(pose(k), kPoseSize, &pose_manifold_);
+    add_block(pose(k), kPoseSize, &pose_manifold_);
   }
   for (size_t k = 0; k < input.points.size(); ++k)
     Eigen::Map<Eigen::Vector3d>{point(k)} = input.points[k].p_w;
@@ -112,7 +115,46 @@ LocalBaProblem::LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& o
   add_visual_terms();
   add_inertial_terms();
   fix_gauge();
-  configure_solver();
+  if (!use_lm_) configure_solver();
+}
+
+void LocalBaProblem::add_block(double* x, int size, ceres::Manifold* manifold) {
+  if (use_lm_) {
+    lm_.add_block(x, size, manifold);
+  } else {
+    problem_->AddParameterBlock(x, size, manifold);
+  }
+}
+
+void LocalBaProblem::set_constant(double* x) {
+  if (use_lm_) {
+    lm_.set_constant(x);
+  } else {
+    problem_->SetParameterBlockConstant(x);
+  }
+}
+
+bool LocalBaProblem::has_block(double* x) const {
+  return use_lm_ ? lm_.has_block(x) : problem_->HasParameterBlock(x);
+}
+
+int LocalBaProblem::add_term(ceres::CostFunction* cost, ceres::LossFunction* loss,
+                             std::initializer_list<double*> blocks) {
+  if (use_lm_) return lm_.add_term(cost, loss, blocks);
+  ceres_terms_.push_back(problem_->AddResidualBlock(cost, loss, std::vector<double*>(blocks)));
+  return static_cast<int>(ceres_terms_.size()) - 1;
+}
+
+void LocalBaProblem::remove_term(int id) {
+  if (use_lm_) {
+    lm_.remove_term(id);
+  } else {
+    problem_->RemoveResidualBlock(ceres_terms_[static_cast<size_t>(id)]);
+  }
+}
+
+bool LocalBaProblem::has_terms() const {
+  return use_lm_ ? lm_.num_terms() > 0 : problem_->NumResidualBlocks() > 0;
 }
 
 void LocalBaProblem::add_visual_terms() {
@@ -129,16 +171,14 @@ void LocalBaProblem::add_visual_terms() {
   }
   // Added in the input's order: Ceres keeps it within each point's rows, and the rounding of the
   // solve with it.
-  reprojection_block_.assign(n, nullptr);
+  reprojection_term_.assign(n, -1);
   for (size_t k = 0; k < n; ++k) {
     if (!std::isfinite(chi2(k))) continue;
-    reprojection_block_[k] = problem_.AddResidualBlock(
-        reprojection_[k], &huber_, pose(index_.obs_keyframe[k]), point(index_.obs_point[k]));
+    reprojection_term_[k] = add_term(reprojection_[k], &huber_,
+                                     {pose(index_.obs_keyframe[k]), point(index_.obs_point[k])});
   }
   for (size_t k = 0; k < input_.points.size(); ++k) {
-    if (input_.points[k].fixed && problem_.HasParameterBlock(point(k))) {
-      problem_.SetParameterBlockConstant(point(k));
-    }
+    if (input_.points[k].fixed && has_block(point(k))) set_constant(point(k));
   }
 }
 
@@ -146,21 +186,21 @@ void LocalBaProblem::add_inertial_terms() {
   if (input_.imu_factors.empty()) return;
   const BaGravity& gravity = input_.gravity;
   if (gravity.prior_sigma_rad > 0.0) {
-    problem_.AddParameterBlock(gravity_block(), 3, &gravity_manifold_);
+    add_block(gravity_block(), 3, &gravity_manifold_);
     inertial_.push_back(std::make_unique<GravityPriorCost>(gravity.g_w, gravity.prior_sigma_rad));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, gravity_block());
+    add_term(inertial_.back().get(), nullptr, {gravity_block()});
   } else {
-    problem_.AddParameterBlock(gravity_block(), 3);
-    problem_.SetParameterBlockConstant(gravity_block());
+    add_block(gravity_block(), 3, nullptr);
+    set_constant(gravity_block());
   }
   for (size_t k = 0; k < input_.imu_factors.size(); ++k) {
     const auto [i, j] = index_.imu_pairs[k];
     const ImuPreintegration& pim = input_.imu_factors[k].pim;
     inertial_.push_back(std::make_unique<ImuCost>(pim));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, pose(i), speed_bias(i), pose(j),
-                              speed_bias(j), gravity_block());
+    add_term(inertial_.back().get(), nullptr,
+             {pose(i), speed_bias(i), pose(j), speed_bias(j), gravity_block()});
     inertial_.push_back(std::make_unique<BiasWalkCost>(pim));
-    problem_.AddResidualBlock(inertial_.back().get(), nullptr, speed_bias(i), speed_bias(j));
+    add_term(inertial_.back().get(), nullptr, {speed_bias(i), speed_bias(j)});
   }
 }
 
@@ -170,16 +210,14 @@ void LocalBaProblem::fix_gauge() {
   for (size_t k = 0; k < kfs.size(); ++k) {
     if (!kfs[k].fixed && !kfs[k].pose_fixed) continue;
     any_fixed = true;
-    problem_.SetParameterBlockConstant(pose(k));
-    if (kfs[k].fixed && problem_.HasParameterBlock(speed_bias(k))) {
-      problem_.SetParameterBlockConstant(speed_bias(k));
-    }
+    set_constant(pose(k));
+    if (kfs[k].fixed && has_block(speed_bias(k))) set_constant(speed_bias(k));
   }
   if (any_fixed || kfs.empty()) return;
   const auto oldest = std::min_element(
       kfs.begin(), kfs.end(),
       [](const BaKeyframe& a, const BaKeyframe& b) { return a.state.t_ns < b.state.t_ns; });
-  problem_.SetParameterBlockConstant(pose(static_cast<size_t>(oldest - kfs.begin())));
+  set_constant(pose(static_cast<size_t>(oldest - kfs.begin())));
 }
 
 void LocalBaProblem::configure_solver() {
@@ -190,10 +228,10 @@ void LocalBaProblem::configure_solver() {
   // switches to a non-Schur solver itself if no point remains free.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   std::vector<double*> blocks;
-  problem_.GetParameterBlocks(&blocks);
+  problem_->GetParameterBlocks(&blocks);
   bool has_points = false;
   for (double* block : blocks) {
-    const bool is_point = problem_.ParameterBlockSize(block) == 3 && block != gravity_block();
+    const bool is_point = problem_->ParameterBlockSize(block) == 3 && block != gravity_block();
     has_points = has_points || is_point;
     ordering->AddElementToGroup(block, is_point ? 0 : 1);
   }
@@ -233,24 +271,19 @@ class CpuDeadline : public ceres::IterationCallback {
 }  // namespace
 
 SchurLmSummary LocalBaProblem::solve(double cpu_deadline_s, double function_tolerance) {
-  // Without points the problem is an inertial chain (the IMU refinement: up to 150 keyframes),
-  // banded, which Ceres solves sparse.
-  if (options_.solver == LocalBaOptions::Solver::kSchurLm && !options_.sparse &&
-      !input_.points.empty()) {
+  if (use_lm_) {
     SchurLmOptions lm;
     lm.max_iterations = options_.iterations_per_round;
     lm.function_tolerance = function_tolerance;
     lm.keep_going = [cpu_deadline_s] { return thread_cpu_s() < cpu_deadline_s; };
-    const double* first_point = point(0);
-    return solve_schur_lm(
-        problem_, [first_point](const double* x) { return x >= first_point; }, lm);
+    return lm_.solve(lm);
   }
   CpuDeadline deadline(cpu_deadline_s);
   ceres::Solver::Options options = solver_options_;
   options.function_tolerance = function_tolerance;
   options.callbacks.push_back(&deadline);
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem_, &summary);
+  ceres::Solve(options, problem_.get(), &summary);
   SchurLmSummary out;
   out.usable = summary.IsSolutionUsable();
   out.initial_cost = summary.initial_cost;
@@ -270,10 +303,10 @@ double LocalBaProblem::chi2(size_t k) const {
 }
 
 void LocalBaProblem::drop_outliers(double chi2_threshold) {
-  for (size_t k = 0; k < reprojection_block_.size(); ++k) {
-    if (reprojection_block_[k] != nullptr && !(chi2(k) <= chi2_threshold)) {
-      problem_.RemoveResidualBlock(reprojection_block_[k]);
-      reprojection_block_[k] = nullptr;
+  for (size_t k = 0; k < reprojection_term_.size(); ++k) {
+    if (reprojection_term_[k] >= 0 && !(chi2(k) <= chi2_threshold)) {
+      remove_term(reprojection_term_[k]);
+      reprojection_term_[k] = -1;
     }
   }
 }

@@ -1,6 +1,7 @@
 #pragma once
-// The Ceres problem of one local bundle adjustment (mapper/local_ba.h): input validation,
-// parameter blocks, cost terms, gauge, and the Schur ordering (points eliminated first).
+// The problem of one local bundle adjustment (mapper/local_ba.h): input validation, parameter
+// blocks, cost terms and gauge, held by mapper/schur_lm.h or, for Ceres' own solver, by a
+// ceres::Problem with the Schur ordering (points eliminated first).
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
@@ -9,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <deque>
+#include <initializer_list>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -36,7 +38,7 @@ class LocalBaProblem {
   LocalBaProblem(const StereoCalib& calib, const LocalBaOptions& options, const LocalBaInput& input,
                  const LocalBaIndex& index);
 
-  bool has_terms() const { return problem_.NumResidualBlocks() > 0; }
+  bool has_terms() const;
   // At most options.iterations_per_round iterations, stopping at function_tolerance (the round's
   // own: see LocalBaOptions); none begins once the calling thread's CPU time (thread_cpu_s) has
   // passed cpu_deadline_s.
@@ -51,6 +53,14 @@ class LocalBaProblem {
                 Eigen::Vector3d* g_w) const;
 
  private:
+  // The same problem for either solver.
+  void add_block(double* x, int size, ceres::Manifold* manifold);
+  void set_constant(double* x);
+  bool has_block(double* x) const;
+  int add_term(ceres::CostFunction* cost, ceres::LossFunction* loss,
+               std::initializer_list<double*> blocks);
+  void remove_term(int id);
+
   void add_visual_terms();
   void add_inertial_terms();
   void fix_gauge();
@@ -83,10 +93,15 @@ class LocalBaProblem {
   // Built point by point, the order in which Ceres' Schur ordering evaluates them: consecutive
   // costs are then neighbours in memory (a deque never moves them).
   std::deque<ReprojectionCost> reprojection_costs_;
-  std::vector<ReprojectionCost*> reprojection_;             // per observation
-  std::vector<ceres::ResidualBlockId> reprojection_block_;  // null when not in the problem
+  std::vector<ReprojectionCost*> reprojection_;  // per observation
+  std::vector<int> reprojection_term_;           // per observation; -1 when not in the problem
   std::vector<std::unique_ptr<ceres::CostFunction>> inertial_;
-  ceres::Problem problem_;
+  // Without points the problem is an inertial chain (the IMU refinement: up to 150 keyframes),
+  // banded, which Ceres solves sparse; so is the full BA (`sparse`).
+  bool use_lm_;
+  SchurLm lm_;
+  std::unique_ptr<ceres::Problem> problem_;          // Ceres' solver only
+  std::vector<ceres::ResidualBlockId> ceres_terms_;  // by add_term's id
   ceres::Solver::Options solver_options_;
 };
 

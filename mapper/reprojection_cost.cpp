@@ -33,10 +33,10 @@ bool ReprojectionCost::Evaluate(double const* const* parameters, double* residua
       inv_sigma_ * Eigen::Vector2d(K.fx, K.fy).asDiagonal() * K.distort_jacobian(xy);
   Eigen::Matrix<double, 2, 3> J_pc;
   J_pc << Jd * inv_z, -inv_z * (Jd * xy);
-  const Eigen::Matrix<double, 2, 3> J_pw = J_pc * camera_->R_c_b * R_w_b.transpose();
+  const Eigen::Matrix<double, 2, 3> A = J_pc * camera_->R_c_b;  // d r / d p_b
+  const Eigen::Matrix<double, 2, 3> J_pw = A * R_w_b.transpose();
   if (jacobians[0] != nullptr) {
     Eigen::Map<Eigen::Matrix<double, 2, kPoseSize, Eigen::RowMajor>> J(jacobians[0]);
-    const Eigen::Matrix<double, 2, 3> A = J_pc * camera_->R_c_b;
     // A * hat(p_b): row k is (A_k x p_b)^T.
     for (int k = 0; k < 2; ++k) J.block<1, 3>(k, 0) = A.row(k).cross(p_b.transpose());
     J.col(3).setZero();

@@ -6,27 +6,6 @@
 
 namespace hs {
 
-Eigen::Vector2d PinholeRadtan::distort(const Eigen::Vector2d& xy) const {
-  const double x = xy.x(), y = xy.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (k1 + k2 * r2);
-  return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-          y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
-}
-
-Eigen::Matrix2d PinholeRadtan::distort_jacobian(const Eigen::Vector2d& xy) const {
-  const double x = xy.x(), y = xy.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (k1 + k2 * r2);
-  const double dradial_dr2 = k1 + 2.0 * k2 * r2;  // d(radial)/dx = 2x * dradial_dr2
-  Eigen::Matrix2d J;
-  J(0, 0) = radial + 2.0 * x * x * dradial_dr2 + 2.0 * p1 * y + 6.0 * p2 * x;
-  J(0, 1) = 2.0 * x * y * dradial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
-  J(1, 0) = 2.0 * x * y * dradial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
-  J(1, 1) = radial + 2.0 * y * y * dradial_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
-  return J;
-}
-
 Eigen::Vector2d PinholeRadtan::undistort(const Eigen::Vector2d& xy_distorted) const {
   // Gauss-Newton (Newton, as the system is square) from the distorted point; the distortion is
   // close to identity near the centre and monotonic inside the valid radius, so this converges

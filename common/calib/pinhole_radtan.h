@@ -13,7 +13,8 @@ struct PinholeRadtan {
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0;  // radial k1, k2; tangential p1, p2
   int width = 0, height = 0;              // pixels
 
-  // Normalised undistorted (x/z, y/z) -> normalised distorted coordinates.
+  // Normalised undistorted (x/z, y/z) -> normalised distorted coordinates. Inline with its
+  // Jacobian: every projection of the tracker and the bundle adjustments calls them.
   Eigen::Vector2d distort(const Eigen::Vector2d& xy) const;
   // d(distort)/d(xy).
   Eigen::Matrix2d distort_jacobian(const Eigen::Vector2d& xy) const;
@@ -39,5 +40,26 @@ struct PinholeRadtan {
   // (infinity when it never does).
   double max_valid_radius2() const;
 };
+
+inline Eigen::Vector2d PinholeRadtan::distort(const Eigen::Vector2d& xy) const {
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (k1 + k2 * r2);
+  return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
+          y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
+}
+
+inline Eigen::Matrix2d PinholeRadtan::distort_jacobian(const Eigen::Vector2d& xy) const {
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (k1 + k2 * r2);
+  const double dradial_dr2 = k1 + 2.0 * k2 * r2;  // d(radial)/dx = 2x * dradial_dr2
+  Eigen::Matrix2d J;
+  J(0, 0) = radial + 2.0 * x * x * dradial_dr2 + 2.0 * p1 * y + 6.0 * p2 * x;
+  J(0, 1) = 2.0 * x * y * dradial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  J(1, 0) = 2.0 * x * y * dradial_dr2 + 2.0 * p1 * x + 2.0 * p2 * y;
+  J(1, 1) = radial + 2.0 * y * y * dradial_dr2 + 6.0 * p1 * y + 2.0 * p2 * x;
+  return J;
+}
 
 }  // namespace hs

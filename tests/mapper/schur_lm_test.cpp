@@ -42,12 +42,6 @@ class SumCost : public ceres::SizedCostFunction<3, 3, 3> {
   }
 };
 
-ceres::Problem::Options borrowing() {
-  ceres::Problem::Options o;
-  o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  return o;
-}
-
 TEST(SchurLm, FindsTheSameWindowAsCeres) {
   const StereoCalib calib = euroc_stereo_calib();
   std::mt19937 rng(11);
@@ -82,15 +76,12 @@ TEST(SchurLm, FindsTheSameWindowAsCeres) {
 // One unknown x (a keyframe-side block), wanted at 10 but unusable beyond 5.
 class WalledProblem : public ::testing::Test {
  protected:
-  void SetUp() override { problem_.AddResidualBlock(&cost_, nullptr, &x_); }
-  SchurLmSummary solve(const SchurLmOptions& options) {
-    return solve_schur_lm(
-        problem_, [](const double*) { return false; }, options);
-  }
+  void SetUp() override { lm_.add_term(&cost_, nullptr, {&x_}); }
+  SchurLmSummary solve(const SchurLmOptions& options) { return lm_.solve(options); }
 
   WalledCost cost_{10.0, 5.0};
   double x_ = 0.0;
-  ceres::Problem problem_{borrowing()};
+  SchurLm lm_{[](const double*) { return false; }};
 };
 
 TEST_F(WalledProblem, AStepThatCannotBeEvaluatedIsRejectedAndShortened) {
@@ -124,17 +115,50 @@ TEST_F(WalledProblem, StopsBeforeAnIterationWhenToldAndOnAnUnusableStart) {
 TEST(SchurLm, StructuresItCannotEliminateAreRefused) {
   SumCost cost;
   double a[3] = {1, 2, 3}, b[3] = {4, 5, 6};
-  ceres::Problem problem(borrowing());
-  problem.AddResidualBlock(&cost, nullptr, a, b);
+  SchurLm lm([](const double*) { return true; });
+  lm.add_term(&cost, nullptr, {a, b});
   // A term between two free points.
-  EXPECT_THROW(solve_schur_lm(problem, [](const double*) { return true; }, {}),
-               std::invalid_argument);
+  EXPECT_THROW(lm.solve({}), std::invalid_argument);
   // With one of them held, the other is eliminated and solved exactly.
-  problem.SetParameterBlockConstant(b);
-  const SchurLmSummary s = solve_schur_lm(problem, [](const double*) { return true; }, {});
+  lm.set_constant(b);
+  const SchurLmSummary s = lm.solve({});
   EXPECT_TRUE(s.usable);
   EXPECT_NEAR(a[0], -4.0, 1e-6);
   EXPECT_NEAR(a[2], -6.0, 1e-6);
+}
+
+TEST(SchurLm, ARemovedTermIsLeftOutOfLaterSolves) {
+  WalledCost to_ten(10.0, 100.0), to_zero(0.0, 100.0);
+  double x = 3.0;
+  SchurLm lm([](const double*) { return false; });
+  lm.add_term(&to_ten, nullptr, {&x});
+  const int second = lm.add_term(&to_zero, nullptr, {&x});
+  EXPECT_EQ(lm.num_terms(), 2);
+  EXPECT_TRUE(lm.solve({}).usable);
+  EXPECT_NEAR(x, 5.0, 1e-6);  // between the two targets
+  lm.remove_term(second);
+  lm.remove_term(second);  // removing twice changes nothing
+  EXPECT_EQ(lm.num_terms(), 1);
+  const double x_before = x;
+  const SchurLmSummary s = lm.solve({});
+  EXPECT_DOUBLE_EQ(s.initial_cost, 0.5 * (x_before - 10.0) * (x_before - 10.0));  // only the first
+  EXPECT_NEAR(x, 10.0, 1e-6);
+}
+
+TEST(SchurLm, BlocksAreCheckedWhenAdded) {
+  WalledCost cost(1.0, 100.0);
+  double x = 0.0, p[3] = {0, 0, 0};
+  SchurLm lm([&](const double* b) { return b == p; });
+  lm.add_block(&x, 1);
+  EXPECT_THROW(lm.add_block(&x, 1), std::invalid_argument);
+  EXPECT_TRUE(lm.has_block(&x));
+  EXPECT_FALSE(lm.has_block(p));
+  SumCost two_blocks;
+  EXPECT_THROW(lm.add_term(&two_blocks, nullptr, {p}), std::invalid_argument);
+  // A point must be 3 plain doubles.
+  lm.add_block(p, 2);
+  lm.add_term(&cost, nullptr, {&x});
+  EXPECT_THROW(lm.solve({}), std::invalid_argument);
 }
 
 }  // namespace
