@@ -214,10 +214,11 @@ check grep -q 'YUYV 10000x180 .*refused' /tmp/camera-size.txt
 check grep -q 'cannot set manual exposure' /tmp/camera-exposure.txt
 check grep -q 'frames without a TRIGGER pulse' /tmp/camera-notrigger.txt
 check [ "$(field '.*without trigger \([0-9]*\),.*')" -ge 20 ]  # 2 s at 30 fps, all of them
-# hs-camera on a device another program is streaming from (v4l2-ctl, for about 5 s): refused
-# as busy, retried, and read once it is free. hs-camera starts once v4l2-ctl streams (its '<' per
-# frame): started together, hs-camera may take the device first under TCG.
-v4l2-ctl -d /dev/video0 --stream-mmap --stream-count=150 --stream-to=/dev/null >/tmp/holder.txt 2>&1 &
+# hs-camera on a device another program is streaming from (v4l2-ctl): refused as busy, retried,
+# and read once it is free. hs-camera starts once v4l2-ctl streams (its '<' per frame): started
+# together, hs-camera may take the device first under TCG. v4l2-ctl holds the device until
+# hs-camera has said it is busy: a fixed count of frames ran out before a slow guest got there.
+v4l2-ctl -d /dev/video0 --stream-mmap --stream-count=100000 --stream-to=/dev/null >/tmp/holder.txt 2>&1 &
 holder=$!
 check ready /tmp/holder.txt '<'
 sed -e 's/width: 10000/width: 320/' /tmp/camera-size.yaml > /tmp/camera-busy.yaml
@@ -225,6 +226,7 @@ start_recording /tmp/cambusy
 out=/tmp/camera-busy.txt start_program hs-camera --config /tmp/camera-busy.yaml
 camera=$program
 check ready /tmp/camera-busy.txt 'another program is streaming from it'
+kill $holder
 wait $holder
 ready /tmp/camera-busy.txt 'video0 opened'
 sleep 2

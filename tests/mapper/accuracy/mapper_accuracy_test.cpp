@@ -114,8 +114,10 @@ TEST(MapperAccuracy, ARunWithTheMapperRepeatsToTheBit) {
 // 0.96x, 1.49x and 1.48x (a full BA of the whole lap at its end, points free, 0.56x, 0.85x,
 // 1.09x, 0.48x: the rest is drift one pass round the block does not observe). A full BA every
 // 50 keyframes (points free) takes the final trajectory to 0.72x, 1.08x, 0.81x, 0.59x (mean
-// 0.80x instead of 1.08x). Seed 4, measured: alone 4.20 cm, window 6.20 cm, with the full BAs
-// 2.49 cm (online 2.92 cm).
+// 0.80x instead of 1.08x). Seed 4 at those defaults: alone 4.20 cm, window 6.20 cm, with the
+// full BAs 2.49 cm (online 2.92 cm). With the inertial refinement every 5th keyframe instead of
+// every 10th the window gets further by itself: alone 5.59 cm, window 3.09 cm (0.55x), with the
+// full BAs 2.39 cm (0.43x, 0.77x the window's).
 TEST(MapperAccuracy, OnVehicleLoopAFullBaEvery50KeyframesUndoesTheWindowsDrift) {
   sim::Scenario s = scenario("vehicle_loop", 50.0);
   s.seed = 4;
@@ -153,8 +155,8 @@ TEST(MapperAccuracy, OnVehicleLoopAFullBaEvery50KeyframesUndoesTheWindowsDrift) 
   EXPECT_EQ(window_counters.full_bas, 0);
   EXPECT_GE(full_counters.full_bas, 5);
   EXPECT_EQ(full_counters.loops_closed, 0);
-  EXPECT_LT(ate_full, 0.7 * ate_alone);
-  EXPECT_LT(ate_full, 0.5 * ate_window);
+  EXPECT_LT(ate_full, 0.5 * ate_alone);
+  EXPECT_LT(ate_full, 0.85 * ate_window);
 }
 
 }  // namespace
