@@ -28,7 +28,8 @@ MapperKeypoint keypoint_from_msg(const hsslam::keypoint_t& k, const std::string&
     fail("depth " + std::to_string(k.depth) + " (expected -1 or > 0)");
   if (k.octave < 0) fail("negative octave " + std::to_string(k.octave));
   if (k.map_point_id < -1) fail("map_point_id " + std::to_string(k.map_point_id));
-  return {k.u, k.v, k.u_right, k.v_right, k.depth, k.octave, k.angle, k.map_point_id};
+  return {k.u,      k.v,     k.u_right,      k.v_right,         k.depth,
+          k.octave, k.angle, k.map_point_id, k.map_point_id < 0};
 }
 
 std::vector<ImuSample> imu_from_msg(const hsslam::keyframe_t& msg, const std::string& where) {

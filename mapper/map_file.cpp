@@ -122,6 +122,7 @@ void write_keyframe(Writer& w, const MapperKeyframe& kf) {
     for (float f : {k.u, k.v, k.u_right, k.v_right, k.depth, k.angle}) w.put(f);
     w.put(static_cast<int32_t>(k.octave));
     w.put(k.point_id);
+    w.put(static_cast<uint8_t>(k.detected));
     w.bytes.append(reinterpret_cast<const char*>(kf.descriptors[i].data()), 32);
   }
   w.put(static_cast<uint64_t>(kf.point_positions.size()));
@@ -144,7 +145,7 @@ MapperKeyframe read_keyframe(Reader& r) {
   kf.prev_id = r.get<int64_t>();
   kf.state = r.state();
   if (kf.id < 0 || kf.prev_id < -1 || kf.prev_id >= kf.id) r.fail("keyframe ids");
-  const size_t n = r.count(6 * 4 + 4 + 8 + 32);
+  const size_t n = r.count(6 * 4 + 4 + 8 + 1 + 32);
   kf.keypoints.resize(n);
   kf.descriptors.resize(n);
   for (size_t i = 0; i < n; ++i) {
@@ -152,7 +153,10 @@ MapperKeyframe read_keyframe(Reader& r) {
     for (float* f : {&k.u, &k.v, &k.u_right, &k.v_right, &k.depth, &k.angle}) *f = r.get<float>();
     k.octave = r.get<int32_t>();
     k.point_id = r.get<int64_t>();
-    if (k.octave < 0 || k.point_id < -1) r.fail("a keypoint of keyframe " + std::to_string(kf.id));
+    const auto detected = r.get<uint8_t>();
+    if (k.octave < 0 || k.point_id < -1 || detected > 1)
+      r.fail("a keypoint of keyframe " + std::to_string(kf.id));
+    k.detected = detected == 1;
     r.bytes(kf.descriptors[i].data(), 32);
   }
   const size_t points = r.count(8 + 3 * 8);

@@ -14,7 +14,7 @@
 
 namespace hs {
 
-constexpr uint32_t kMapFileVersion = 1;
+constexpr uint32_t kMapFileVersion = 2;  // 2: keypoints say whether they were detected
 
 // A loaded map's ids are moved up to here, out of the way of the running tracker's, which start
 // from 0 again (ids already there stay: a map saved after loading one loads the same way).

@@ -27,6 +27,9 @@ struct MapperKeypoint {
   int octave = 0;
   float angle = 0.f;      // degrees
   int64_t point_id = -1;  // observed map point, -1 if none
+  // Arrived without a point: an ORB detection, not a tracked position. Noisier (a FAST corner on
+  // its octave's grid), so a point it comes to see (triangulated or found again) weighs it less.
+  bool detected = false;
 };
 
 struct MapperKeyframe {

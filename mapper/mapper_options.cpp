@@ -85,11 +85,11 @@ MapperConfig load_mapper_config(const std::string& path) {
     s.read("min_parallax_deg", n.min_parallax_deg);
     s.read("max_reprojection_px", n.max_reprojection_px);
     s.read("scale_ratio_factor", n.scale_ratio_factor);
-    s.read("pixel_sigma", o.window.new_point_pixel_sigma);
+    s.read("pixel_sigma", o.window.detected_pixel_sigma);
     if (covisible < 0 || n.max_hamming < 0 || n.max_hamming > 256 ||
         !(n.ratio > 0 && n.ratio <= 1) || !(n.epipolar_px > 0) || !(n.min_parallax_deg >= 0) ||
         !(n.max_reprojection_px > 0) || !(n.scale_ratio_factor >= 1) ||
-        !(o.window.new_point_pixel_sigma > 0))
+        !(o.window.detected_pixel_sigma > 0))
       s.fail("covisible_keyframes", "new point options out of range");
     n.covisible_keyframes = static_cast<size_t>(covisible);
     n.octave_scale = o.window.octave_scale;

@@ -56,9 +56,8 @@ WindowInput window_input(const KeyframeGraph& graph, const LocalWindow& window,
     const MapperKeyframe& kf = *graph.keyframe(k.id);
     for (const MapperKeypoint& kp : kf.keypoints) {
       if (kp.point_id < 0 || !points.count(kp.point_id)) continue;
-      const double sigma =
-          (mapper_made_point(kp.point_id) ? options.new_point_pixel_sigma : options.pixel_sigma) *
-          std::pow(options.octave_scale, kp.octave);
+      const double sigma = (kp.detected ? options.detected_pixel_sigma : options.pixel_sigma) *
+                           std::pow(options.octave_scale, kp.octave);
       const Eigen::Vector2d uv(kp.u, kp.v);
       in.observations.push_back({k.id, kp.point_id, 0, uv, sigma});
       if (kp.u_right < 0.f) continue;

@@ -22,9 +22,10 @@ struct WindowInputOptions {
   // bend the window. Local BA takes 12.6 iterations instead of 8.6 at 0.3.
   double pixel_sigma = 0.15;
   double octave_scale = 1.2;  // ORB pyramid scale: sigma = pixel_sigma * scale^octave
-  // The same for the keypoints of points the mapper triangulated (mapper/new_points.h): ORB
-  // detections, not tracked to sub-pixel.
-  double new_point_pixel_sigma = 1.0;
+  // The same for keypoints that arrived without a point (MapperKeypoint::detected): ORB
+  // detections, not tracked to sub-pixel, seeing a point the mapper triangulated
+  // (mapper/new_points.h) or a revisited one found again (mapper/point_fusion.h).
+  double detected_pixel_sigma = 1.0;
   int64_t max_imu_gap_ns = 50'000'000;  // an interval with a longer IMU gap gets no IMU factor
   // Points farther than this from every optimised keyframe are held fixed (0: none). The
   // Mapper sets it from the calibration (MapperOptions::far_point_disparity_px).

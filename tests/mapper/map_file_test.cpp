@@ -33,6 +33,7 @@ MapperKeyframe keyframe(int64_t id, int64_t prev) {
     kp.octave = k;
     kp.angle = 12.5f;
     kp.point_id = k < 2 ? 10 + k : -1;
+    kp.detected = k > 0;
     kf.keypoints.push_back(kp);
     Descriptor d{};
     d.fill(static_cast<uint8_t>(id * 7 + k));
@@ -107,6 +108,7 @@ TEST(MapFile, ARoundTripKeepsEveryField) {
       EXPECT_EQ(b.keypoints[i].depth, a.keypoints[i].depth);
       EXPECT_EQ(b.keypoints[i].octave, a.keypoints[i].octave);
       EXPECT_EQ(b.keypoints[i].point_id, a.keypoints[i].point_id);
+      EXPECT_EQ(b.keypoints[i].detected, a.keypoints[i].detected);
       EXPECT_EQ(b.descriptors[i], a.descriptors[i]);
     }
     EXPECT_EQ(b.point_positions, a.point_positions);

@@ -32,7 +32,7 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.mapper.new_points.covisible_keyframes, d.new_points.covisible_keyframes);
   EXPECT_EQ(c.mapper.new_points.max_hamming, d.new_points.max_hamming);
   EXPECT_EQ(c.mapper.new_points.min_parallax_deg, d.new_points.min_parallax_deg);
-  EXPECT_EQ(c.mapper.window.new_point_pixel_sigma, d.window.new_point_pixel_sigma);
+  EXPECT_EQ(c.mapper.window.detected_pixel_sigma, d.window.detected_pixel_sigma);
   EXPECT_EQ(c.mapper.loop.enabled, d.loop.enabled);
   EXPECT_EQ(c.mapper.loop.index.tables, d.loop.index.tables);
   EXPECT_EQ(c.mapper.loop.candidates, d.loop.candidates);
@@ -97,7 +97,7 @@ TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   EXPECT_EQ(n.mapper.new_points.max_hamming, 40);
   EXPECT_EQ(n.mapper.new_points.min_parallax_deg, 2.0);
   EXPECT_EQ(n.mapper.new_points.octave_scale, 1.5) << "the pyramid's, from the mapper section";
-  EXPECT_EQ(n.mapper.window.new_point_pixel_sigma, 0.8);
+  EXPECT_EQ(n.mapper.window.detected_pixel_sigma, 0.8);
   const TempYaml bad_ratio("new_points:\n  ratio: 1.5\n");
   expect_input_error([&] { load_mapper_config(bad_ratio.path()); }, {"new_points", "range"});
   const TempYaml loop("loop:\n  enabled: false\n  candidates: 5\n  drift_per_m: 0.01\n");
