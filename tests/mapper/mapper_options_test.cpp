@@ -68,6 +68,19 @@ TEST(MapperConfig, ShippedFileHoldsTheDefaults) {
   EXPECT_EQ(c.calib.cam0.intrinsics.fx, euroc_stereo_calib().cam0.intrinsics.fx);
 }
 
+// The open-loop baseline tools/seed_sweep.sh measures loop closing against: only loops and fusion
+// off, everything else as shipped.
+TEST(MapperConfig, NoLoopsFileTurnsOffOnlyLoopsAndFusion) {
+  const MapperConfig c = load_mapper_config(HS_SOURCE_DIR "/config/mapper_no_loops.yaml");
+  const MapperConfig shipped = load_mapper_config(HS_SOURCE_DIR "/config/mapper.yaml");
+  EXPECT_FALSE(c.mapper.loop.enabled);
+  EXPECT_FALSE(c.mapper.fuse_revisits);
+  EXPECT_TRUE(shipped.mapper.loop.enabled);
+  EXPECT_TRUE(shipped.mapper.fuse_revisits);
+  EXPECT_EQ(c.mapper.window.detected_pixel_sigma, shipped.mapper.window.detected_pixel_sigma);
+  EXPECT_EQ(c.mapper.inertial.every_keyframes, shipped.mapper.inertial.every_keyframes);
+}
+
 TEST(MapperConfig, ValuesAreReadAndBadOnesNamed) {
   const TempYaml ok(
       "mapper:\n  pixel_sigma: 0.5\ninertial:\n  every_keyframes: 0\nlocal_ba:\n"
