@@ -47,7 +47,6 @@ ate_cm() {  # ate_cm RUN_DIR
 }
 
 printf '%-6s %10s %10s %7s\n' seed base_cm mapper_cm ratio
-ratios=()
 bases=()
 mappers=()
 for seed in $seeds; do
@@ -60,14 +59,14 @@ for seed in $seeds; do
   m=$(ate_cm "$out/$seed/mapper")
   r=$(python3 -c "print('%.3f' % ($m / $a))")
   printf '%-6s %10s %10s %7s\n' "$seed" "$a" "$m" "$r"
-  ratios+=("$r")
   bases+=("$a")
   mappers+=("$m")
 done
-python3 - "${#ratios[@]}" "${ratios[@]}" "${bases[@]}" "${mappers[@]}" <<'PY'
+python3 - "${#bases[@]}" "${bases[@]}" "${mappers[@]}" <<'PY'
 import sys
 n = int(sys.argv[1])
 v = [float(x) for x in sys.argv[2:]]
-r, b, m = v[:n], v[n:2 * n], v[2 * n:]
-print("mean ratio %.3f, ratio of sums %.3f over %d seeds" % (sum(r) / n, sum(m) / sum(b), n))
+b, m = v[:n], v[n:]
+mean = sum(y / x for x, y in zip(b, m)) / n
+print("mean ratio %.3f, ratio of sums %.3f over %d seeds" % (mean, sum(m) / sum(b), n))
 PY
