@@ -163,7 +163,7 @@ void KeyframeGraph::add_observation(int64_t id, const Observation& o) {
   update_descriptor(p);
 }
 
-void KeyframeGraph::fuse_point(int64_t drop, int64_t keep) {
+void KeyframeGraph::fuse_point(int64_t drop, int64_t keep, bool moved_as_detections) {
   if (drop == keep) return;
   const std::vector<Observation> moved = points_.at(drop).observations;
   const MapperPoint& kept = points_.at(keep);
@@ -172,7 +172,10 @@ void KeyframeGraph::fuse_point(int64_t drop, int64_t keep) {
     const bool sees =
         std::any_of(kept.observations.begin(), kept.observations.end(),
                     [&](const Observation& s) { return s.keyframe_id == o.keyframe_id; });
-    if (!sees) add_observation(keep, o);
+    if (sees) continue;
+    add_observation(keep, o);
+    if (moved_as_detections)
+      keyframes_.at(o.keyframe_id).kf.keypoints.at(static_cast<size_t>(o.keypoint)).detected = true;
   }
 }
 

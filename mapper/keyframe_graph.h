@@ -89,7 +89,9 @@ class KeyframeGraph {
   void add_observation(int64_t id, const Observation& o);
   // One point found twice (a revisit): `drop`'s observations move to `keep`, except those of
   // keyframes already seeing `keep` (their keypoints are freed), and `drop` is removed.
-  void fuse_point(int64_t drop, int64_t keep);
+  // moved_as_detections: the moved keypoints become `detected` (they followed `drop`'s track,
+  // off `keep`'s by the difference of the two tracks' first detections).
+  void fuse_point(int64_t drop, int64_t keep, bool moved_as_detections = false);
   // Every map id of world `from` joins world `into` (two maps found to be one). Their frames
   // must agree by now: the caller moved one onto the other.
   void merge_world(int32_t from, int32_t into);

@@ -286,6 +286,7 @@ bool Mapper::close_loop(MapperStep& step) {
       Eigen::AngleAxisd(loop.drift.linear()).angle() < o.min_correction_rad)
     return false;
   closed_loops_.push_back(loop);
+  closed_worlds_.insert(graph_.world(loop.query));
   step.closure = hs::close_loop(graph_, closed_loops_, o);
   keyframes_at_last_closure_ = counters_.keyframes;
   ++counters_.loops_closed;
@@ -325,6 +326,7 @@ void Mapper::merge_worlds(MapperStep& step) {
       graph_.set_position(id, T * p.p_w);
   }
   graph_.merge_world(from, into);
+  if (closed_worlds_.erase(from)) closed_worlds_.insert(into);
   g_w_ = T.linear() * g_w_;
   closed_loops_.push_back(loop);  // an edge of later pose graphs
   ++counters_.maps_merged;
@@ -352,11 +354,12 @@ std::vector<int64_t> Mapper::revisited_points(int64_t id) const {
 }
 
 void Mapper::fuse(int64_t id, const std::vector<int64_t>& points, MapperStep& step) {
-  const FusionResult r =
-      fuse_points_into(graph_, id, points, calib_, options_.fusion,
-                       [this](int64_t p) { return loaded_points_.count(p) > 0; });
+  const FusionResult r = fuse_points_into(
+      graph_, id, points, calib_, options_.fusion,
+      [this](int64_t p) { return loaded_points_.count(p) > 0; }, ties_across_a_loop(id));
   step.fused_points += r.fused;
   counters_.points_fused += r.fused;
+  if (ties_across_a_loop(id)) counters_.points_fused_as_ties += r.fused;
   counters_.fusion_observations += r.observations_added;
   for (const auto& [drop, keep] : r.merged) {
     std::vector<int64_t>& to = alias_sources_[keep];
@@ -377,9 +380,10 @@ void Mapper::resolve_aliases(MapperKeyframe& keyframe) {
   for (MapperKeypoint& kp : keyframe.keypoints) {
     if (kp.point_id < 0) continue;
     if (const auto a = aliases_.find(kp.point_id); a != aliases_.end()) {
-      if (graph_.point(a->second)) {
+      if (const MapperPoint* kept = graph_.point(a->second)) {
         keyframe.point_positions.erase(kp.point_id);
         kp.point_id = a->second;
+        if (ties_across_a_loop(kept->observations.front().keyframe_id)) kp.detected = true;
       } else {  // the kept point is gone since: the tracker's stands alone again
         aliases_.erase(a);
       }

@@ -67,7 +67,8 @@ std::vector<ProjectedMatch> match_projected_points(
 
 FusionResult fuse_points_into(KeyframeGraph& graph, int64_t id, const std::vector<int64_t>& points,
                               const StereoCalib& calib, const PointFusionOptions& options,
-                              const std::function<bool(int64_t)>& preferred) {
+                              const std::function<bool(int64_t)>& preferred,
+                              bool ties_as_detections) {
   FusionResult r;
   const MapperKeyframe& kf = *graph.keyframe(id);
   const std::vector<ProjectedMatch> matches =
@@ -91,7 +92,7 @@ FusionResult fuse_points_into(KeyframeGraph& graph, int64_t id, const std::vecto
     const int64_t keep = keep_found ? m.point_id : current;
     const int64_t drop = keep_found ? current : m.point_id;
     if (preferred(drop)) continue;  // two fixed points: neither may go
-    graph.fuse_point(drop, keep);
+    graph.fuse_point(drop, keep, ties_as_detections);
     r.merged.emplace_back(drop, keep);
     ++r.fused;
   }

@@ -55,9 +55,11 @@ struct FusionResult {
 
 // Matches `points` in keyframe `id` at its current pose and fuses: a free keypoint gains the
 // observation; of two points found to be one, a `preferred` one is kept (a loaded map's, which
-// must not move), else the one with more observations.
+// must not move), else the one with more observations. ties_as_detections: the dropped point's
+// observations are weighted as detections on the kept one (KeyframeGraph::fuse_point).
 FusionResult fuse_points_into(KeyframeGraph& graph, int64_t id, const std::vector<int64_t>& points,
                               const StereoCalib& calib, const PointFusionOptions& options,
-                              const std::function<bool(int64_t)>& preferred);
+                              const std::function<bool(int64_t)>& preferred,
+                              bool ties_as_detections = false);
 
 }  // namespace hs

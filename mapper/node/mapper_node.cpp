@@ -302,6 +302,7 @@ void MapperNode::publish_heartbeat(int8_t state) {
       {"maps_merged", m.maps_merged},
       {"full_bas", m.full_bas},
       {"points_fused", m.points_fused},
+      {"points_fused_as_ties", m.points_fused_as_ties},
       {"places_implausible", m.places_implausible},
       {"duplicate_keyframes", g.duplicates},
       {"out_of_order_keyframes", g.out_of_order},

@@ -131,7 +131,8 @@ std::string mapper_text(const MapperRunStats& stats, const Mapper& mapper,
     << ", neighbourhood disagreed " << counters.places_unconfirmed << "; query median "
     << time_stats(stats.loop_query_ms).median << " ms, p95 " << time_stats(stats.loop_query_ms).p95
     << " ms; index " << mapper.loop_index_bytes() / 1e6 << " MB); maps merged "
-    << counters.maps_merged << ", points fused " << counters.points_fused
+    << counters.maps_merged << ", points fused " << counters.points_fused << " ("
+    << counters.points_fused_as_ties << " across a closed loop)"
     << ", observations found again " << counters.fusion_observations
     << "; lost frames placed by the atlas " << counters.relocalisations << " of "
     << counters.reloc_requests << " asked\n";

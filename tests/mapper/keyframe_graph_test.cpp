@@ -288,6 +288,23 @@ TEST(KeyframeGraph, MergedWorldsShareWindowsAndLaterMapIdsJoinThem) {
   EXPECT_TRUE(std::count(w.keyframes.begin(), w.keyframes.end(), 0));
 }
 
+TEST(KeyframeGraph, AFusedTrackWeighsAsDetectionsOnlyWhenAsked) {
+  for (const bool as_detections : {false, true}) {
+    KeyframeGraph g;
+    g.insert(keyframe(0, -1, ids(0, 9)));
+    g.insert(keyframe(1, 0, ids(0, 9)));
+    g.insert(keyframe(2, 1, ids(20, 29)));  // the revisit: its own track of point 0, as point 20
+    g.insert(keyframe(3, 2, ids(20, 29)));
+    g.fuse_point(20, 0, as_detections);
+    for (int64_t k : {2, 3}) {
+      EXPECT_EQ(g.keyframe(k)->keypoints[0].point_id, 0);
+      EXPECT_EQ(g.keyframe(k)->keypoints[0].detected, as_detections) << k;
+      EXPECT_FALSE(g.keyframe(k)->keypoints[1].detected) << k;  // not fused: its own track
+    }
+    for (int64_t k : {0, 1}) EXPECT_FALSE(g.keyframe(k)->keypoints[0].detected) << k;
+  }
+}
+
 TEST(KeyframeGraph, FusingIntoAPointAKeyframeAlreadySeesFreesTheSecondKeypoint) {
   KeyframeGraph g;
   g.insert(keyframe(0, -1, {1, 2}));
