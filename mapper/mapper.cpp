@@ -354,12 +354,13 @@ std::vector<int64_t> Mapper::revisited_points(int64_t id) const {
 }
 
 void Mapper::fuse(int64_t id, const std::vector<int64_t>& points, MapperStep& step) {
+  const bool ties = ties_across_a_loop(id);
   const FusionResult r = fuse_points_into(
       graph_, id, points, calib_, options_.fusion,
-      [this](int64_t p) { return loaded_points_.count(p) > 0; }, ties_across_a_loop(id));
+      [this](int64_t p) { return loaded_points_.count(p) > 0; }, ties);
   step.fused_points += r.fused;
   counters_.points_fused += r.fused;
-  if (ties_across_a_loop(id)) counters_.points_fused_as_ties += r.fused;
+  if (ties) counters_.points_fused_as_ties += r.fused;
   counters_.fusion_observations += r.observations_added;
   for (const auto& [drop, keep] : r.merged) {
     std::vector<int64_t>& to = alias_sources_[keep];

@@ -27,8 +27,10 @@ struct MapperKeypoint {
   int octave = 0;
   float angle = 0.f;      // degrees
   int64_t point_id = -1;  // observed map point, -1 if none
-  // Arrived without a point: an ORB detection, not a tracked position. Noisier (a FAST corner on
-  // its octave's grid), so a point it comes to see (triangulated or found again) weighs it less.
+  // Weighed as an ORB detection, not a tracked position: it arrived without a point (a FAST
+  // corner on its octave's grid, noisier), so a point it comes to see (triangulated or found
+  // again) weighs it less; or it follows a track fused into another point's after a loop was
+  // closed (Mapper::ties_across_a_loop).
   bool detected = false;
 };
 

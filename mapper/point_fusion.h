@@ -60,6 +60,6 @@ struct FusionResult {
 FusionResult fuse_points_into(KeyframeGraph& graph, int64_t id, const std::vector<int64_t>& points,
                               const StereoCalib& calib, const PointFusionOptions& options,
                               const std::function<bool(int64_t)>& preferred,
-                              bool ties_as_detections = false);
+                              bool ties_as_detections);
 
 }  // namespace hs
